@@ -1,0 +1,113 @@
+//! The `strider` command line: flags are parsed and validated here, then handed to the
+//! subcommand modules. Data goes to stdout, diagnostics to stderr; exit code 0 means success,
+//! 1 a failed task or check, 2 a usage, file or script error. A closed stdout pipe is not an
+//! error.
+
+pub mod fuzzy;
+
+use std::io::{self, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// strider: fuzzy navigation and character locomotion planning, in a terminal.
+#[derive(Debug, Parser)]
+#[command(name = "strider", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do; without a command, strider runs its built-in default scenario.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Top-level commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Fuzzy engines: evaluate, export, plot, benchmark.
+    Fuzzy {
+        /// The fuzzy subcommand.
+        #[command(subcommand)]
+        command: fuzzy::FuzzyCommand,
+    },
+}
+
+/// A failure of a command, with the exit code it maps to.
+#[derive(Debug)]
+pub enum Failure {
+    /// Usage, file or script error (exit 2).
+    Input(anyhow::Error),
+    /// The command ran but its task or check failed (exit 1).
+    Task(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Input(e)
+    }
+}
+
+impl From<io::Error> for Failure {
+    fn from(e: io::Error) -> Self {
+        Failure::Input(e.into())
+    }
+}
+
+impl From<crate::diagnostic::SourceError> for Failure {
+    fn from(e: crate::diagnostic::SourceError) -> Self {
+        Failure::Input(e.into())
+    }
+}
+
+/// Result of a command.
+pub type Outcome = Result<(), Failure>;
+
+/// Runs the command line and returns the process exit code.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => fuzzy::default_scenario(),
+        Some(Command::Fuzzy { command }) => fuzzy::run(command),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Input(e)) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(Failure::Input(e)) => {
+            let _ = writeln!(io::stderr(), "error: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Task(e)) => {
+            let _ = writeln!(io::stderr(), "failed: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.downcast_ref::<io::Error>().is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe))
+}
+
+/// Parses `WxH` (for example `800x600`).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WIDTHxHEIGHT, found '{s}'"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width '{w}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height '{h}'"))?;
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(format!("size {w}x{h} is outside 16..8192"));
+    }
+    Ok((w, h))
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same directory, then a rename.
+pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).map(PathBuf::from).unwrap_or_else(|| ".".into());
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}

@@ -1,0 +1,27 @@
+//! A complete fuzzy inference engine (seed 000 §3.1; DESIGN.md §2): linguistic variables,
+//! terms, hedges, T-norms / S-norms, rule blocks, activation methods and defuzzifiers, for
+//! Mamdani, Larsen, Takagi-Sugeno, Tsukamoto and hybrid engines, with FLL import/export.
+//!
+//! Layout: [`engine`] is the plain-data description, [`rule`] the rule grammar, [`fll`] the
+//! FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
+//! used to check it. Several engines are layered with [`Network`]. The module does no IO.
+
+pub mod defuzz;
+pub mod engine;
+pub mod fll;
+pub mod inference;
+pub mod network;
+pub mod norm;
+pub mod reference;
+pub mod rule;
+pub mod term;
+
+pub use engine::{
+    Activation, Comparison, Defuzzifier, Engine, EngineError, EngineKind, InputVariable, NamedTerm, OutputVariable,
+    RuleBlock, WeightedKind,
+};
+pub use inference::{Inference, RuleActivation};
+pub use network::Network;
+pub use norm::{Hedge, SNorm, TNorm};
+pub use rule::Rule;
+pub use term::Term;

@@ -1,0 +1,173 @@
+//! Defuzzification: turning an aggregated fuzzy set into a crisp output (seed 000 §3.1,
+//! the turn and speed outputs of Fig 1).
+//!
+//! Integral defuzzifiers work on the aggregated membership sampled at the midpoints
+//! `xᵢ = min + (i + ½)·(max − min)/resolution`, `i = 0..resolution`; both the compiled engine
+//! and the reference evaluation produce those samples and share these functions.
+//! Weighted defuzzifiers work on the list of activated terms, one entry per term (activations
+//! of the same term grouped by the output's aggregation, or summed without one).
+//! Invariant: no function here panics; an empty or all-zero set gives NaN.
+
+use super::engine::{Defuzzifier, WeightedKind};
+use super::term::Term;
+
+/// The sample points of an integral defuzzifier.
+#[inline]
+pub fn sample_x(minimum: f64, maximum: f64, resolution: usize, i: usize) -> f64 {
+    let dx = (maximum - minimum) / resolution as f64;
+    minimum + (i as f64 + 0.5) * dx
+}
+
+/// Defuzzifies sampled memberships `mu` (length = resolution) over `[minimum, maximum]` with
+/// an integral defuzzifier. Returns NaN when there is no area. Weighted defuzzifiers return NaN
+/// here (they are not integral).
+pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
+    let n = mu.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let x = |i: usize| sample_x(minimum, maximum, n, i);
+    match defuzzifier {
+        Defuzzifier::Centroid { .. } => centroid(minimum, maximum, mu),
+        Defuzzifier::Bisector { .. } => {
+            // The sample(s) where the running area is closest to half the total; ties averaged.
+            let total: f64 = mu.iter().filter(|y| !y.is_nan()).sum();
+            if !(total > 0.0) || !total.is_finite() {
+                return f64::NAN;
+            }
+            let mut running = 0.0;
+            let (mut best, mut sum_x, mut count) = (f64::INFINITY, 0.0, 0usize);
+            for (i, &y) in mu.iter().enumerate() {
+                if !y.is_nan() {
+                    running += y;
+                }
+                let e = (running / total - 0.5).abs();
+                if e < best {
+                    (best, sum_x, count) = (e, x(i), 1);
+                } else if e == best {
+                    sum_x += x(i);
+                    count += 1;
+                }
+            }
+            sum_x / count as f64
+        }
+        Defuzzifier::SmallestOfMaximum { .. } | Defuzzifier::LargestOfMaximum { .. } | Defuzzifier::MeanOfMaximum { .. } => {
+            // Candidates: every sample at the (exact) global maximum, which must be positive.
+            let mut y_max = f64::NEG_INFINITY;
+            for &y in mu {
+                if y.is_nan() {
+                    return f64::NAN;
+                }
+                y_max = y_max.max(y);
+            }
+            if !(y_max > 0.0) {
+                return f64::NAN;
+            }
+            let (mut first, mut last, mut sum_x, mut count) = (f64::NAN, f64::NAN, 0.0, 0usize);
+            for (i, &y) in mu.iter().enumerate() {
+                if y == y_max {
+                    if count == 0 {
+                        first = x(i);
+                    }
+                    last = x(i);
+                    sum_x += x(i);
+                    count += 1;
+                }
+            }
+            match defuzzifier {
+                Defuzzifier::SmallestOfMaximum { .. } => first,
+                Defuzzifier::LargestOfMaximum { .. } => last,
+                _ => sum_x / count as f64,
+            }
+        }
+        Defuzzifier::WeightedAverage { .. } | Defuzzifier::WeightedSum { .. } => f64::NAN,
+    }
+}
+
+/// Centre of area of the samples: `Σ μᵢ·xᵢ / Σ μᵢ`.
+pub fn centroid(minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
+    let n = mu.len();
+    let dx = (maximum - minimum) / n as f64;
+    let (mut area, mut moment) = (0.0, 0.0);
+    for (i, &y) in mu.iter().enumerate() {
+        let x = minimum + (i as f64 + 0.5) * dx;
+        area += y;
+        moment += y * x;
+    }
+    moment / area
+}
+
+/// One activated term as seen by a weighted defuzzifier.
+#[derive(Debug, Clone, Copy)]
+pub struct Weighted<'a> {
+    /// The term.
+    pub term: &'a Term,
+    /// Its activation degree.
+    pub degree: f64,
+}
+
+/// Weighted average (`sum_only = false`) or weighted sum of activated terms. `inputs` are the
+/// engine's input values, for linear terms.
+pub fn weighted(kind: WeightedKind, terms: &[Weighted<'_>], inputs: &[f64], sum_only: bool) -> f64 {
+    if terms.is_empty() {
+        return f64::NAN;
+    }
+    let (mut sum, mut weights) = (0.0, 0.0);
+    for w in terms {
+        let tsukamoto = match kind {
+            WeightedKind::Tsukamoto => true,
+            WeightedKind::TakagiSugeno => false,
+            WeightedKind::Automatic => w.term.is_monotonic(),
+        };
+        let z = if tsukamoto {
+            w.term.tsukamoto(w.degree).unwrap_or(f64::NAN)
+        } else {
+            w.term.membership_with(w.degree, inputs)
+        };
+        sum += w.degree * z;
+        weights += w.degree;
+    }
+    if !(weights > 0.0) {
+        return f64::NAN;
+    }
+    if sum_only { sum } else { sum / weights }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centroid_of_symmetric_samples_is_the_middle() {
+        let mu = [0.0, 0.5, 1.0, 1.0, 0.5, 0.0];
+        assert!((integral(&Defuzzifier::Centroid { resolution: 6 }, 0.0, 6.0, &mu) - 3.0).abs() < 1e-15);
+        // Running area 0, 0.5, 1.5 (exactly half of 3 at x = 2.5), 2.5, …
+        assert_eq!(integral(&Defuzzifier::Bisector { resolution: 6 }, 0.0, 6.0, &mu), 2.5);
+        // Maximum plateau covers samples 2 and 3 at x = 2.5 and 3.5.
+        assert_eq!(integral(&Defuzzifier::SmallestOfMaximum { resolution: 6 }, 0.0, 6.0, &mu), 2.5);
+        assert_eq!(integral(&Defuzzifier::LargestOfMaximum { resolution: 6 }, 0.0, 6.0, &mu), 3.5);
+        assert_eq!(integral(&Defuzzifier::MeanOfMaximum { resolution: 6 }, 0.0, 6.0, &mu), 3.0);
+    }
+
+    #[test]
+    fn centroid_by_hand() {
+        // Samples at x = 0.5, 1.5, 2.5, 3.5 with weights 1, 0, 0, 3 → (0.5 + 10.5) / 4.
+        let mu = [1.0, 0.0, 0.0, 3.0];
+        assert_eq!(centroid(0.0, 4.0, &mu), 11.0 / 4.0);
+        assert!(centroid(0.0, 4.0, &[0.0; 4]).is_nan());
+        assert!(integral(&Defuzzifier::MeanOfMaximum { resolution: 4 }, 0.0, 4.0, &[0.0; 4]).is_nan());
+    }
+
+    #[test]
+    fn weighted_average_and_sum() {
+        let a = Term::Constant { value: 10.0 };
+        let b = Term::Linear { coefficients: vec![2.0, 1.0] };
+        let terms = [Weighted { term: &a, degree: 0.25 }, Weighted { term: &b, degree: 0.75 }];
+        // b = 2·3 + 1 = 7; average = (2.5 + 5.25) / 1.0.
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], false), 7.75);
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], true), 7.75);
+        let ramp = Term::Ramp { start: 0.0, end: 10.0, height: 1.0 };
+        let terms = [Weighted { term: &ramp, degree: 0.5 }];
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[], false), 5.0);
+    }
+}

@@ -1,0 +1,786 @@
+//! The fuzzy engine description: linguistic variables, rule blocks, operators and
+//! defuzzifiers (seed 000 §3.1; DESIGN.md §2). Plain data: FLL files, Rhai scripts and Rust
+//! code all build an [`Engine`], [`Engine::validate`] checks it, and
+//! [`crate::fuzzy::Inference`] runs it.
+//!
+//! Invariant: an engine that passed [`Engine::validate`] has unique variable names, unique
+//! term names per variable, non-empty ranges, and every rule refers to existing variables
+//! and terms; evaluating it never panics, whatever the inputs.
+
+use super::norm::{SNorm, TNorm, key};
+use super::rule::Rule;
+use super::term::Term;
+
+/// A term with its name within a variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedTerm {
+    /// Name used in rules.
+    pub name: String,
+    /// The membership function.
+    pub term: Term,
+}
+
+/// A crisp input with its linguistic terms.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputVariable {
+    /// Name used in rules and data files.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// A disabled input makes every proposition on it 0.
+    pub enabled: bool,
+    /// Lower end of the range (may be `-inf`).
+    pub minimum: f64,
+    /// Upper end of the range (may be `+inf`).
+    pub maximum: f64,
+    /// Clamp input values into the range before fuzzifying.
+    pub lock_range: bool,
+    /// The terms.
+    pub terms: Vec<NamedTerm>,
+}
+
+/// How an output is defuzzified.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Defuzzifier {
+    /// Centre of area of the aggregated set, sampled at `resolution` midpoints.
+    Centroid {
+        /// Number of samples over the output range.
+        resolution: usize,
+    },
+    /// The value splitting the area in two halves.
+    Bisector {
+        /// Number of samples over the output range.
+        resolution: usize,
+    },
+    /// Smallest value of maximal membership.
+    SmallestOfMaximum {
+        /// Number of samples over the output range.
+        resolution: usize,
+    },
+    /// Largest value of maximal membership.
+    LargestOfMaximum {
+        /// Number of samples over the output range.
+        resolution: usize,
+    },
+    /// Mean of the first plateau of maximal membership.
+    MeanOfMaximum {
+        /// Number of samples over the output range.
+        resolution: usize,
+    },
+    /// `Σ wᵢ·zᵢ / Σ wᵢ` over activated terms (Takagi-Sugeno or Tsukamoto).
+    WeightedAverage {
+        /// Which value `zᵢ` a term contributes.
+        kind: WeightedKind,
+    },
+    /// `Σ wᵢ·zᵢ` over activated terms.
+    WeightedSum {
+        /// Which value `zᵢ` a term contributes.
+        kind: WeightedKind,
+    },
+}
+
+/// Which value a term contributes to a weighted defuzzifier.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WeightedKind {
+    /// Takagi-Sugeno for constant/linear terms, Tsukamoto for monotonic ones.
+    Automatic,
+    /// `z` is the term's value (constant, linear function of the inputs).
+    TakagiSugeno,
+    /// `z` is the crisp value where the monotonic term reaches the activation degree.
+    Tsukamoto,
+}
+
+/// Default number of samples of integral defuzzifiers (as in current fuzzylite).
+pub const DEFAULT_RESOLUTION: usize = 1000;
+
+impl Defuzzifier {
+    /// The FLL class name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Defuzzifier::Centroid { .. } => "Centroid",
+            Defuzzifier::Bisector { .. } => "Bisector",
+            Defuzzifier::SmallestOfMaximum { .. } => "SmallestOfMaximum",
+            Defuzzifier::LargestOfMaximum { .. } => "LargestOfMaximum",
+            Defuzzifier::MeanOfMaximum { .. } => "MeanOfMaximum",
+            Defuzzifier::WeightedAverage { .. } => "WeightedAverage",
+            Defuzzifier::WeightedSum { .. } => "WeightedSum",
+        }
+    }
+
+    /// The resolution of an integral defuzzifier, `None` for weighted ones.
+    pub fn resolution(&self) -> Option<usize> {
+        match *self {
+            Defuzzifier::Centroid { resolution }
+            | Defuzzifier::Bisector { resolution }
+            | Defuzzifier::SmallestOfMaximum { resolution }
+            | Defuzzifier::LargestOfMaximum { resolution }
+            | Defuzzifier::MeanOfMaximum { resolution } => Some(resolution),
+            _ => None,
+        }
+    }
+
+    /// Builds a defuzzifier from its FLL class name and optional parameter (resolution for
+    /// integral ones; `Automatic`, `TakagiSugeno` or `Tsukamoto` for weighted ones).
+    pub fn from_name(name: &str, parameter: Option<&str>) -> Result<Defuzzifier, String> {
+        let k = key(name);
+        let resolution = || -> Result<usize, String> {
+            match parameter {
+                None => Ok(DEFAULT_RESOLUTION),
+                Some(p) => p
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|r| r.fract() == 0.0 && *r >= 1.0 && *r <= 1e7)
+                    .map(|r| r as usize)
+                    .ok_or_else(|| format!("resolution must be a whole number from 1 to 10000000, found '{p}'")),
+            }
+        };
+        let kind = || -> Result<WeightedKind, String> {
+            match parameter.map(key).as_deref() {
+                None | Some("automatic") => Ok(WeightedKind::Automatic),
+                Some("takagisugeno") => Ok(WeightedKind::TakagiSugeno),
+                Some("tsukamoto") => Ok(WeightedKind::Tsukamoto),
+                Some(_) => Err(format!(
+                    "weighted defuzzifier type must be Automatic, TakagiSugeno or Tsukamoto, found '{}'",
+                    parameter.unwrap_or_default()
+                )),
+            }
+        };
+        Ok(match k.as_str() {
+            "centroid" => Defuzzifier::Centroid { resolution: resolution()? },
+            "bisector" => Defuzzifier::Bisector { resolution: resolution()? },
+            "smallestofmaximum" | "som" => Defuzzifier::SmallestOfMaximum { resolution: resolution()? },
+            "largestofmaximum" | "lom" => Defuzzifier::LargestOfMaximum { resolution: resolution()? },
+            "meanofmaximum" | "mom" => Defuzzifier::MeanOfMaximum { resolution: resolution()? },
+            "weightedaverage" => Defuzzifier::WeightedAverage { kind: kind()? },
+            "weightedsum" => Defuzzifier::WeightedSum { kind: kind()? },
+            _ => return Err(format!("unknown defuzzifier '{name}'")),
+        })
+    }
+}
+
+/// A crisp output with its terms and how it is computed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputVariable {
+    /// Name used in rules and data files.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// A disabled output keeps its value and receives no activations.
+    pub enabled: bool,
+    /// Lower end of the range.
+    pub minimum: f64,
+    /// Upper end of the range.
+    pub maximum: f64,
+    /// Clamp the defuzzified value into the range.
+    pub lock_range: bool,
+    /// How activated terms are aggregated (`None`: at most one activation is allowed).
+    pub aggregation: Option<SNorm>,
+    /// How the aggregate becomes a crisp value (`None`: the output always takes its default).
+    pub defuzzifier: Option<Defuzzifier>,
+    /// Value when no rule fires or the result is undefined (a number or NaN).
+    pub default_value: f64,
+    /// When no rule fires or the result is undefined, keep the previous value (if it is a
+    /// number) instead of taking the default.
+    pub lock_previous: bool,
+    /// The terms.
+    pub terms: Vec<NamedTerm>,
+}
+
+/// How a rule block chooses which rules fire (fuzzylite's activation methods).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Activation {
+    /// Every rule with a positive activation degree fires.
+    General,
+    /// The first `rules` rules (in order) with degree > 0 and ≥ `threshold` fire.
+    First {
+        /// How many rules at most.
+        rules: usize,
+        /// Minimum activation degree.
+        threshold: f64,
+    },
+    /// The last `rules` rules (in reverse order) with degree > 0 and ≥ `threshold` fire.
+    Last {
+        /// How many rules at most.
+        rules: usize,
+        /// Minimum activation degree.
+        threshold: f64,
+    },
+    /// The `rules` rules with the highest positive degrees fire.
+    Highest {
+        /// How many rules at most.
+        rules: usize,
+    },
+    /// The `rules` rules with the lowest positive degrees fire.
+    Lowest {
+        /// How many rules at most.
+        rules: usize,
+    },
+    /// Every rule fires with its degree divided by the sum of all degrees.
+    Proportional,
+    /// Rules whose degree compares true against `value` fire.
+    Threshold {
+        /// The comparison.
+        comparison: Comparison,
+        /// The threshold.
+        value: f64,
+    },
+}
+
+/// Comparison operator of [`Activation::Threshold`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Comparison {
+    /// `==`
+    Equal,
+    /// `!=`
+    NotEqual,
+    /// `<`
+    Less,
+    /// `<=`
+    LessOrEqual,
+    /// `>`
+    Greater,
+    /// `>=`
+    GreaterOrEqual,
+}
+
+impl Comparison {
+    /// The operator as written in FLL.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Comparison::Equal => "==",
+            Comparison::NotEqual => "!=",
+            Comparison::Less => "<",
+            Comparison::LessOrEqual => "<=",
+            Comparison::Greater => ">",
+            Comparison::GreaterOrEqual => ">=",
+        }
+    }
+
+    /// Parses an operator.
+    pub fn from_symbol(s: &str) -> Option<Comparison> {
+        [
+            Comparison::Equal,
+            Comparison::NotEqual,
+            Comparison::Less,
+            Comparison::LessOrEqual,
+            Comparison::Greater,
+            Comparison::GreaterOrEqual,
+        ]
+        .into_iter()
+        .find(|c| c.symbol() == s)
+    }
+
+    /// `degree <op> value`.
+    pub fn holds(self, degree: f64, value: f64) -> bool {
+        match self {
+            Comparison::Equal => degree == value,
+            Comparison::NotEqual => degree != value,
+            Comparison::Less => degree < value,
+            Comparison::LessOrEqual => degree <= value,
+            Comparison::Greater => degree > value,
+            Comparison::GreaterOrEqual => degree >= value,
+        }
+    }
+}
+
+impl Activation {
+    /// The FLL class name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Activation::General => "General",
+            Activation::First { .. } => "First",
+            Activation::Last { .. } => "Last",
+            Activation::Highest { .. } => "Highest",
+            Activation::Lowest { .. } => "Lowest",
+            Activation::Proportional => "Proportional",
+            Activation::Threshold { .. } => "Threshold",
+        }
+    }
+
+    /// Builds an activation method from its FLL name and parameters.
+    pub fn from_parts(name: &str, params: &[&str]) -> Result<Activation, String> {
+        let count = |i: usize| -> Result<usize, String> {
+            match params.get(i) {
+                None => Ok(1),
+                Some(p) => p
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.fract() == 0.0 && *v >= 0.0 && *v < 1e9)
+                    .map(|v| v as usize)
+                    .ok_or_else(|| format!("number of rules must be a whole number ≥ 0, found '{p}'")),
+            }
+        };
+        let number = |i: usize, default: f64| -> Result<f64, String> {
+            match params.get(i) {
+                None => Ok(default),
+                Some(p) => super::fll::parse_number(p).ok_or_else(|| format!("expected a number, found '{p}'")),
+            }
+        };
+        let max_params = |n: usize| -> Result<(), String> {
+            if params.len() > n { Err(format!("activation {name} takes at most {n} parameters")) } else { Ok(()) }
+        };
+        Ok(match key(name).as_str() {
+            "general" => {
+                max_params(0)?;
+                Activation::General
+            }
+            "first" => {
+                max_params(2)?;
+                Activation::First { rules: count(0)?, threshold: number(1, 0.0)? }
+            }
+            "last" => {
+                max_params(2)?;
+                Activation::Last { rules: count(0)?, threshold: number(1, 0.0)? }
+            }
+            "highest" => {
+                max_params(1)?;
+                Activation::Highest { rules: count(0)? }
+            }
+            "lowest" => {
+                max_params(1)?;
+                Activation::Lowest { rules: count(0)? }
+            }
+            "proportional" => {
+                max_params(0)?;
+                Activation::Proportional
+            }
+            "threshold" => {
+                max_params(2)?;
+                let (comparison, value) = match params {
+                    [] => (Comparison::Greater, 0.0),
+                    [_] => (Comparison::GreaterOrEqual, number(0, 0.0)?),
+                    [op, _] => (
+                        Comparison::from_symbol(op).ok_or_else(|| format!("unknown comparison '{op}'"))?,
+                        number(1, 0.0)?,
+                    ),
+                    _ => return Err(format!("activation {name} takes at most 2 parameters")),
+                };
+                Activation::Threshold { comparison, value }
+            }
+            _ => return Err(format!("unknown activation method '{name}'")),
+        })
+    }
+
+    /// The FLL parameters after the class name.
+    pub fn parameters(&self) -> String {
+        match self {
+            Activation::General | Activation::Proportional => String::new(),
+            Activation::First { rules, threshold } | Activation::Last { rules, threshold } => {
+                format!("{rules} {}", super::fll::number(*threshold))
+            }
+            Activation::Highest { rules } | Activation::Lowest { rules } => rules.to_string(),
+            Activation::Threshold { comparison, value } => {
+                format!("{} {}", comparison.symbol(), super::fll::number(*value))
+            }
+        }
+    }
+}
+
+/// A set of rules sharing operators.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RuleBlock {
+    /// Name of the block.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// A disabled block fires no rules.
+    pub enabled: bool,
+    /// Operator for `and` (needed when a rule uses `and`).
+    pub conjunction: Option<TNorm>,
+    /// Operator for `or` (needed when a rule uses `or`).
+    pub disjunction: Option<SNorm>,
+    /// How a rule's degree cuts its conclusion's term (Mamdani: minimum, Larsen: product).
+    pub implication: Option<TNorm>,
+    /// Which rules fire.
+    pub activation: Activation,
+    /// The rules, in order.
+    pub rules: Vec<Rule>,
+}
+
+/// A complete fuzzy inference system.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Engine {
+    /// Name of the engine.
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// Input variables, in data-file order.
+    pub inputs: Vec<InputVariable>,
+    /// Output variables, in data-file order.
+    pub outputs: Vec<OutputVariable>,
+    /// Rule blocks, evaluated in order.
+    pub rule_blocks: Vec<RuleBlock>,
+}
+
+/// The family an engine belongs to, inferred from its operators and defuzzifiers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EngineKind {
+    /// Integral defuzzifiers with minimum implication.
+    Mamdani,
+    /// Integral defuzzifiers with product implication.
+    Larsen,
+    /// Weighted defuzzifiers over constant/linear terms.
+    TakagiSugeno,
+    /// Weighted defuzzifiers over monotonic terms.
+    Tsukamoto,
+    /// Integral and weighted outputs in the same engine.
+    Hybrid,
+    /// None of the above.
+    Unknown,
+}
+
+/// What is wrong with an engine.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct EngineError {
+    /// Human-readable explanation naming the variable, term, block or rule.
+    pub message: String,
+}
+
+fn err<T>(message: String) -> Result<T, EngineError> {
+    Err(EngineError { message })
+}
+
+impl InputVariable {
+    /// A new enabled input with no terms.
+    pub fn new(name: &str, minimum: f64, maximum: f64) -> Self {
+        InputVariable {
+            name: name.to_string(),
+            description: String::new(),
+            enabled: true,
+            minimum,
+            maximum,
+            lock_range: false,
+            terms: Vec::new(),
+        }
+    }
+
+    /// Adds a term (builder style).
+    pub fn term(mut self, name: &str, term: Term) -> Self {
+        self.terms.push(NamedTerm { name: name.to_string(), term });
+        self
+    }
+}
+
+impl OutputVariable {
+    /// A new enabled output: maximum aggregation, centroid at the default resolution,
+    /// default value NaN.
+    pub fn new(name: &str, minimum: f64, maximum: f64) -> Self {
+        OutputVariable {
+            name: name.to_string(),
+            description: String::new(),
+            enabled: true,
+            minimum,
+            maximum,
+            lock_range: false,
+            aggregation: Some(SNorm::Maximum),
+            defuzzifier: Some(Defuzzifier::Centroid { resolution: DEFAULT_RESOLUTION }),
+            default_value: f64::NAN,
+            lock_previous: false,
+            terms: Vec::new(),
+        }
+    }
+
+    /// Adds a term (builder style).
+    pub fn term(mut self, name: &str, term: Term) -> Self {
+        self.terms.push(NamedTerm { name: name.to_string(), term });
+        self
+    }
+}
+
+impl RuleBlock {
+    /// A Mamdani block: minimum / maximum / minimum, general activation, no rules.
+    pub fn mamdani(name: &str) -> Self {
+        RuleBlock {
+            name: name.to_string(),
+            description: String::new(),
+            enabled: true,
+            conjunction: Some(TNorm::Minimum),
+            disjunction: Some(SNorm::Maximum),
+            implication: Some(TNorm::Minimum),
+            activation: Activation::General,
+            rules: Vec::new(),
+        }
+    }
+}
+
+fn check_name(what: &str, name: &str) -> Result<(), EngineError> {
+    let ok = !name.is_empty()
+        && name.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '.')
+        && !matches!(name, "if" | "then" | "and" | "or" | "with" | "is" | "any" | "not" | "very" | "somewhat" | "extremely" | "seldom");
+    if ok {
+        Ok(())
+    } else {
+        err(format!(
+            "{what} name '{name}' is not valid: use letters, digits, '_' or '.', and no rule keyword or hedge"
+        ))
+    }
+}
+
+fn check_range(what: &str, name: &str, min: f64, max: f64) -> Result<(), EngineError> {
+    if min.is_nan() || max.is_nan() {
+        return err(format!("{what} '{name}' has a NaN range bound"));
+    }
+    if min > max {
+        return err(format!("{what} '{name}' has an inverted range [{min}, {max}]"));
+    }
+    if min == max {
+        return err(format!("{what} '{name}' has an empty range [{min}, {max}]"));
+    }
+    Ok(())
+}
+
+fn check_terms(what: &str, name: &str, terms: &[NamedTerm]) -> Result<(), EngineError> {
+    for (i, t) in terms.iter().enumerate() {
+        check_name("term", &t.name)?;
+        if terms[..i].iter().any(|o| o.name == t.name) {
+            return err(format!("{what} '{name}' has two terms named '{}'", t.name));
+        }
+        if t.term.parameters().iter().any(|p| p.is_nan()) {
+            return err(format!("term '{}' of {what} '{name}' has a NaN parameter", t.name));
+        }
+    }
+    Ok(())
+}
+
+impl Engine {
+    /// An empty engine with a name.
+    pub fn new(name: &str) -> Self {
+        Engine { name: name.to_string(), ..Engine::default() }
+    }
+
+    /// Index of the input called `name`.
+    pub fn input_index(&self, name: &str) -> Option<usize> {
+        self.inputs.iter().position(|v| v.name == name)
+    }
+
+    /// Index of the output called `name`.
+    pub fn output_index(&self, name: &str) -> Option<usize> {
+        self.outputs.iter().position(|v| v.name == name)
+    }
+
+    /// Parses `text` and appends it to rule block `block`.
+    pub fn add_rule(&mut self, block: usize, text: &str) -> Result<(), super::rule::RuleError> {
+        let rule = Rule::parse(text, &self.inputs, &self.outputs)?;
+        self.rule_blocks[block].rules.push(rule);
+        Ok(())
+    }
+
+    /// Checks everything [`crate::fuzzy::Inference`] relies on.
+    pub fn validate(&self) -> Result<(), EngineError> {
+        for (i, v) in self.inputs.iter().enumerate() {
+            check_name("input variable", &v.name)?;
+            if self.inputs[..i].iter().any(|o| o.name == v.name) {
+                return err(format!("two input variables are named '{}'", v.name));
+            }
+            check_range("input variable", &v.name, v.minimum, v.maximum)?;
+            check_terms("input variable", &v.name, &v.terms)?;
+        }
+        for (i, v) in self.outputs.iter().enumerate() {
+            check_name("output variable", &v.name)?;
+            if self.outputs[..i].iter().any(|o| o.name == v.name) || self.inputs.iter().any(|o| o.name == v.name) {
+                return err(format!("two variables are named '{}'", v.name));
+            }
+            check_range("output variable", &v.name, v.minimum, v.maximum)?;
+            check_terms("output variable", &v.name, &v.terms)?;
+            if let Some(d) = v.defuzzifier
+                && d.resolution().is_some()
+                && !(v.minimum.is_finite() && v.maximum.is_finite())
+            {
+                return err(format!(
+                    "output variable '{}' uses {} and needs a finite range, found [{}, {}]",
+                    v.name,
+                    d.name(),
+                    v.minimum,
+                    v.maximum
+                ));
+            }
+            if let Some(Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind }) = v.defuzzifier {
+                for t in &v.terms {
+                    let ok = match kind {
+                        WeightedKind::TakagiSugeno => true,
+                        WeightedKind::Tsukamoto => t.term.is_monotonic(),
+                        WeightedKind::Automatic => {
+                            t.term.is_monotonic() || matches!(t.term, Term::Constant { .. } | Term::Linear { .. })
+                        }
+                    };
+                    if !ok {
+                        return err(format!(
+                            "term '{}' ({}) of output variable '{}' cannot be used by a weighted defuzzifier: \
+                             use Constant or Linear terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave)",
+                            t.name,
+                            t.term.class_name(),
+                            v.name
+                        ));
+                    }
+                }
+            } else {
+                for t in &v.terms {
+                    if let Term::Linear { .. } = t.term {
+                        return err(format!(
+                            "term '{}' of output variable '{}' is Linear, which only a weighted defuzzifier can use",
+                            t.name, v.name
+                        ));
+                    }
+                }
+            }
+        }
+        for t in self.inputs.iter().flat_map(|v| &v.terms).chain(self.outputs.iter().flat_map(|v| &v.terms)) {
+            if let Term::Linear { coefficients } = &t.term
+                && coefficients.len() != self.inputs.len() + 1
+                && coefficients.len() != self.inputs.len()
+            {
+                return err(format!(
+                    "Linear term '{}' needs {} coefficients (one per input, then an optional constant), found {}",
+                    t.name,
+                    self.inputs.len(),
+                    coefficients.len()
+                ));
+            }
+        }
+        for (bi, block) in self.rule_blocks.iter().enumerate() {
+            if self.rule_blocks[..bi].iter().any(|b| b.name == block.name && !b.name.is_empty()) {
+                return err(format!("two rule blocks are named '{}'", block.name));
+            }
+            for (ri, rule) in block.rules.iter().enumerate() {
+                let where_ = || format!("rule {} of rule block '{}'", ri + 1, block.name);
+                if rule.uses_and() && block.conjunction.is_none() {
+                    return err(format!("{} uses 'and' but the block has no conjunction", where_()));
+                }
+                if rule.uses_or() && block.disjunction.is_none() {
+                    return err(format!("{} uses 'or' but the block has no disjunction", where_()));
+                }
+                if !(rule.weight.is_finite() && rule.weight >= 0.0) {
+                    return err(format!("{} has weight {}, expected a finite number ≥ 0", where_(), rule.weight));
+                }
+                if !self.rule_indices_valid(rule) {
+                    return err(format!("{} refers to a variable or term that does not exist", where_()));
+                }
+                for c in &rule.consequent {
+                    let out = &self.outputs[c.variable];
+                    let integral = out.defuzzifier.is_some_and(|d| d.resolution().is_some());
+                    if integral && block.implication.is_none() {
+                        return err(format!(
+                            "{} concludes on '{}', whose {} defuzzifier needs an implication operator in the block",
+                            where_(),
+                            out.name,
+                            out.defuzzifier.map(|d| d.name()).unwrap_or_default()
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn rule_indices_valid(&self, rule: &Rule) -> bool {
+        use super::rule::Antecedent;
+        fn walk(e: &Engine, a: &Antecedent) -> bool {
+            match a {
+                Antecedent::Proposition(p) => {
+                    p.variable < e.inputs.len() && p.term.is_none_or(|t| t < e.inputs[p.variable].terms.len())
+                }
+                Antecedent::And(l, r) | Antecedent::Or(l, r) => walk(e, l) && walk(e, r),
+            }
+        }
+        walk(self, &rule.antecedent)
+            && rule.consequent.iter().all(|c| c.variable < self.outputs.len() && c.term < self.outputs[c.variable].terms.len())
+    }
+
+    /// Which family the engine belongs to.
+    pub fn kind(&self) -> EngineKind {
+        let mut integral = false;
+        let mut ts = false;
+        let mut tsukamoto = false;
+        for o in &self.outputs {
+            match o.defuzzifier {
+                Some(d) if d.resolution().is_some() => integral = true,
+                Some(_) => {
+                    if o.terms.iter().all(|t| t.term.is_monotonic()) && !o.terms.is_empty() {
+                        tsukamoto = true
+                    } else {
+                        ts = true
+                    }
+                }
+                None => {}
+            }
+        }
+        match (integral, ts || tsukamoto) {
+            (true, true) => EngineKind::Hybrid,
+            (true, false) => {
+                let product = self.rule_blocks.iter().all(|b| b.implication == Some(TNorm::AlgebraicProduct));
+                if product && !self.rule_blocks.is_empty() { EngineKind::Larsen } else { EngineKind::Mamdani }
+            }
+            (false, true) => {
+                if tsukamoto && !ts {
+                    EngineKind::Tsukamoto
+                } else {
+                    EngineKind::TakagiSugeno
+                }
+            }
+            (false, false) => EngineKind::Unknown,
+        }
+    }
+
+    /// Total number of rules over all blocks.
+    pub fn rule_count(&self) -> usize {
+        self.rule_blocks.iter().map(|b| b.rules.len()).sum()
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A small engine used by unit tests across the fuzzy module.
+    pub(crate) fn two_by_two() -> Engine {
+        let tri = |a, b, c| Term::Triangle { a, b, c, height: 1.0 };
+        let mut e = Engine::new("test");
+        e.inputs.push(InputVariable::new("distance", 0.0, 4.0).term("near", tri(0.0, 0.0, 2.0)).term("far", tri(1.0, 4.0, 4.0)));
+        e.inputs.push(
+            InputVariable::new("angle", -90.0, 90.0)
+                .term("left", tri(-90.0, -90.0, 0.0))
+                .term("ahead", tri(-45.0, 0.0, 45.0))
+                .term("right", tri(0.0, 90.0, 90.0)),
+        );
+        e.outputs.push(OutputVariable::new("turn", -60.0, 60.0).term("left", tri(-60.0, -60.0, 0.0)).term("right", tri(0.0, 60.0, 60.0)));
+        e.outputs.push(OutputVariable::new("speed", 0.0, 2.0).term("slow", tri(0.0, 0.0, 1.0)).term("fast", tri(0.5, 2.0, 2.0)));
+        e.rule_blocks.push(RuleBlock::mamdani("main"));
+        e
+    }
+
+    #[test]
+    fn validation_catches_bad_engines() {
+        let mut e = two_by_two();
+        assert!(e.validate().is_ok());
+        e.inputs[1].name = "distance".into();
+        assert!(e.validate().unwrap_err().message.contains("two input variables"));
+        let mut e = two_by_two();
+        e.outputs[0].minimum = 100.0;
+        assert!(e.validate().unwrap_err().message.contains("inverted"));
+        let mut e = two_by_two();
+        e.inputs[0].maximum = 0.0;
+        assert!(e.validate().unwrap_err().message.contains("empty"));
+        let mut e = two_by_two();
+        e.outputs[1].terms[1].name = "slow".into();
+        assert!(e.validate().unwrap_err().message.contains("two terms"));
+        let mut e = two_by_two();
+        e.add_rule(0, "if distance is near and angle is left then turn is right").unwrap();
+        e.rule_blocks[0].conjunction = None;
+        assert!(e.validate().unwrap_err().message.contains("conjunction"));
+        let mut e = two_by_two();
+        e.inputs[0].name = "if".into();
+        assert!(e.validate().is_err());
+    }
+
+    #[test]
+    fn activation_parsing() {
+        assert_eq!(Activation::from_parts("First", &["2", "0.1"]).unwrap(), Activation::First { rules: 2, threshold: 0.1 });
+        assert_eq!(
+            Activation::from_parts("Threshold", &[">", "0.3"]).unwrap(),
+            Activation::Threshold { comparison: Comparison::Greater, value: 0.3 }
+        );
+        assert!(Activation::from_parts("Highest", &["x"]).is_err());
+        assert!(Activation::from_parts("Nope", &[]).is_err());
+    }
+}

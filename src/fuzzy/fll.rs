@@ -1,0 +1,432 @@
+//! The FuzzyLite Language (FLL): import and export of whole engines, so fuzzylite engines
+//! load unchanged and strider's layered controllers (seed 000 §3.1) can be taken elsewhere.
+//!
+//! The importer reads `Engine:`, `InputVariable:`, `OutputVariable:` and `RuleBlock:`
+//! sections of `key: value` lines, `#` comments, and the legacy keys of older fuzzylite
+//! files (`accumulation`, `lock-valid`, `activation` naming a T-norm). Every error carries
+//! the line and column. The exporter writes numbers with full precision, so export followed
+//! by import gives back the same engine.
+
+use super::engine::{
+    Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, WeightedKind,
+};
+use super::norm::{SNorm, TNorm};
+use super::rule::Rule;
+use super::term::Term;
+use crate::diagnostic::SourceError;
+
+/// Writes a number the way FLL reads it: `nan`, `inf`, `-inf`, or the shortest decimal that
+/// reads back to the same `f64`.
+pub fn number(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x == f64::INFINITY {
+        "inf".into()
+    } else if x == f64::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Reads an FLL number (`nan`, `inf`, `+inf`, `-inf` or a decimal).
+pub fn parse_number(s: &str) -> Option<f64> {
+    match s.to_ascii_lowercase().as_str() {
+        "nan" | "+nan" | "-nan" => Some(f64::NAN),
+        "inf" | "+inf" | "infinity" | "+infinity" => Some(f64::INFINITY),
+        "-inf" | "-infinity" => Some(f64::NEG_INFINITY),
+        other => other.parse::<f64>().ok().filter(|v| v.is_finite()),
+    }
+}
+
+enum Section {
+    None,
+    Engine,
+    Input(usize),
+    Output(usize),
+    Block(usize),
+}
+
+struct PendingRule {
+    block: usize,
+    text: String,
+    line: usize,
+    col: usize,
+}
+
+/// Reads an FLL engine from `text`; `file` names it in errors. The engine is validated.
+pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
+    let mut engine = Engine::default();
+    let mut section = Section::None;
+    let mut rules: Vec<PendingRule> = Vec::new();
+    let mut seen_engine = false;
+    for (ln, raw) in text.lines().enumerate() {
+        let line_no = ln + 1;
+        let line = match raw.find('#') {
+            Some(i) => &raw[..i],
+            None => raw,
+        };
+        if line.trim().is_empty() {
+            continue;
+        }
+        let indent = line.len() - line.trim_start().len();
+        let content = line.trim();
+        let col_of = |byte_in_line: usize| raw[..byte_in_line].chars().count() + 1;
+        let err = |byte_in_line: usize, msg: String| SourceError::new(file, line_no, col_of(byte_in_line), msg);
+        let Some(colon) = content.find(':') else {
+            return Err(err(indent, format!("expected 'key: value', found '{content}'")));
+        };
+        let key = content[..colon].trim();
+        let value = content[colon + 1..].trim();
+        let value_byte = indent + colon + 1 + (content[colon + 1..].len() - content[colon + 1..].trim_start().len());
+        let words: Vec<&str> = value.split_whitespace().collect();
+        let value_err = |msg: String| err(value_byte, msg);
+        let boolean = || -> Result<bool, SourceError> {
+            match value {
+                "true" => Ok(true),
+                "false" => Ok(false),
+                _ => Err(value_err(format!("expected true or false, found '{value}'"))),
+            }
+        };
+        let name_value = || -> Result<String, SourceError> {
+            if value.is_empty() || words.len() > 1 {
+                Err(value_err(format!("expected a single name, found '{value}'")))
+            } else {
+                Ok(value.to_string())
+            }
+        };
+        match key {
+            "Engine" => {
+                if seen_engine {
+                    return Err(err(indent, "a second 'Engine:' section; one file holds one engine".into()));
+                }
+                seen_engine = true;
+                engine.name = value.to_string();
+                section = Section::Engine;
+                continue;
+            }
+            "InputVariable" => {
+                engine.inputs.push(InputVariable::new(&name_value()?, f64::NEG_INFINITY, f64::INFINITY));
+                section = Section::Input(engine.inputs.len() - 1);
+                continue;
+            }
+            "OutputVariable" => {
+                let mut v = OutputVariable::new(&name_value()?, f64::NEG_INFINITY, f64::INFINITY);
+                v.aggregation = None;
+                v.defuzzifier = None;
+                engine.outputs.push(v);
+                section = Section::Output(engine.outputs.len() - 1);
+                continue;
+            }
+            "RuleBlock" => {
+                let mut b = RuleBlock::mamdani(value);
+                b.conjunction = None;
+                b.disjunction = None;
+                b.implication = None;
+                engine.rule_blocks.push(b);
+                section = Section::Block(engine.rule_blocks.len() - 1);
+                continue;
+            }
+            _ => {}
+        }
+        match section {
+            Section::None => {
+                return Err(err(indent, format!("'{key}' outside any section; start with 'Engine: NAME'")));
+            }
+            Section::Engine => match key {
+                "description" => engine.description = value.to_string(),
+                _ => return Err(err(indent, format!("unknown key '{key}' in Engine section"))),
+            },
+            Section::Input(i) => {
+                let v = &mut engine.inputs[i];
+                match key {
+                    "description" => v.description = value.to_string(),
+                    "enabled" => v.enabled = boolean()?,
+                    "range" => (v.minimum, v.maximum) = range(&words).map_err(value_err)?,
+                    "lock-range" => v.lock_range = boolean()?,
+                    "term" => v.terms.push(term(&words).map_err(value_err)?),
+                    _ => return Err(err(indent, format!("unknown key '{key}' in InputVariable section"))),
+                }
+            }
+            Section::Output(i) => {
+                let v = &mut engine.outputs[i];
+                match key {
+                    "description" => v.description = value.to_string(),
+                    "enabled" => v.enabled = boolean()?,
+                    "range" => (v.minimum, v.maximum) = range(&words).map_err(value_err)?,
+                    "lock-range" => v.lock_range = boolean()?,
+                    "aggregation" | "accumulation" => v.aggregation = snorm(value).map_err(value_err)?,
+                    "defuzzifier" => {
+                        v.defuzzifier = match words.as_slice() {
+                            [] | ["none"] => None,
+                            [name] => Some(Defuzzifier::from_name(name, None).map_err(value_err)?),
+                            [name, p] => Some(Defuzzifier::from_name(name, Some(p)).map_err(value_err)?),
+                            _ => return Err(value_err(format!("expected 'NAME [PARAMETER]', found '{value}'"))),
+                        }
+                    }
+                    "default" => {
+                        v.default_value =
+                            parse_number(value).ok_or_else(|| value_err(format!("expected a number, found '{value}'")))?
+                    }
+                    "lock-previous" | "lock-valid" => v.lock_previous = boolean()?,
+                    "term" => v.terms.push(term(&words).map_err(value_err)?),
+                    _ => return Err(err(indent, format!("unknown key '{key}' in OutputVariable section"))),
+                }
+            }
+            Section::Block(i) => {
+                let b = &mut engine.rule_blocks[i];
+                match key {
+                    "description" => b.description = value.to_string(),
+                    "enabled" => b.enabled = boolean()?,
+                    "conjunction" => b.conjunction = tnorm(value).map_err(value_err)?,
+                    "disjunction" => b.disjunction = snorm(value).map_err(value_err)?,
+                    "implication" => b.implication = tnorm(value).map_err(value_err)?,
+                    "activation" => match words.as_slice() {
+                        [] | ["none"] => b.activation = Activation::General,
+                        [name, params @ ..] => match Activation::from_parts(name, params) {
+                            Ok(a) => b.activation = a,
+                            // Files from fuzzylite 5 and older name the implication here.
+                            Err(e) => match (TNorm::from_name(name), params) {
+                                (Some(t), []) => b.implication = Some(t),
+                                _ => return Err(value_err(e)),
+                            },
+                        },
+                    },
+                    "rule" => rules.push(PendingRule {
+                        block: i,
+                        text: value.to_string(),
+                        line: line_no,
+                        col: col_of(value_byte),
+                    }),
+                    _ => return Err(err(indent, format!("unknown key '{key}' in RuleBlock section"))),
+                }
+            }
+        }
+    }
+    if !seen_engine {
+        return Err(SourceError::new(file, 1, 1, "no 'Engine:' section found"));
+    }
+    // Variables are validated before rules are parsed, so that rule errors name real problems.
+    engine.validate().map_err(|e| SourceError::new(file, 0, 0, e.message))?;
+    for r in rules {
+        let rule = Rule::parse(&r.text, &engine.inputs, &engine.outputs)
+            .map_err(|e| SourceError::new(file, r.line, r.col + e.col - 1, e.message))?;
+        engine.rule_blocks[r.block].rules.push(rule);
+    }
+    engine.validate().map_err(|e| SourceError::new(file, 0, 0, e.message))?;
+    Ok(engine)
+}
+
+fn range(words: &[&str]) -> Result<(f64, f64), String> {
+    match words {
+        [a, b] => {
+            let a = parse_number(a).ok_or_else(|| format!("range minimum '{a}' is not a number"))?;
+            let b = parse_number(b).ok_or_else(|| format!("range maximum '{b}' is not a number"))?;
+            if a.is_nan() || b.is_nan() {
+                return Err("a range bound is NaN".into());
+            }
+            if a >= b {
+                return Err(format!("range [{a}, {b}] is empty or inverted"));
+            }
+            Ok((a, b))
+        }
+        _ => Err("expected 'range: MINIMUM MAXIMUM'".into()),
+    }
+}
+
+fn term(words: &[&str]) -> Result<NamedTerm, String> {
+    match words {
+        [name, class, params @ ..] => {
+            let values = params
+                .iter()
+                .map(|p| parse_number(p).ok_or_else(|| format!("term '{name}': parameter '{p}' is not a number")))
+                .collect::<Result<Vec<f64>, String>>()?;
+            let term = Term::from_parameters(class, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            Ok(NamedTerm { name: name.to_string(), term })
+        }
+        _ => Err("expected 'term: NAME CLASS PARAMETERS…'".into()),
+    }
+}
+
+fn tnorm(value: &str) -> Result<Option<TNorm>, String> {
+    if value.is_empty() || value == "none" {
+        return Ok(None);
+    }
+    TNorm::from_name(value).map(Some).ok_or_else(|| {
+        let all: Vec<&str> = TNorm::ALL.iter().map(|t| t.name()).collect();
+        format!("unknown T-norm '{value}' (known: {}, none)", all.join(", "))
+    })
+}
+
+fn snorm(value: &str) -> Result<Option<SNorm>, String> {
+    if value.is_empty() || value == "none" {
+        return Ok(None);
+    }
+    SNorm::from_name(value).map(Some).ok_or_else(|| {
+        let all: Vec<&str> = SNorm::ALL.iter().map(|s| s.name()).collect();
+        format!("unknown S-norm '{value}' (known: {}, none)", all.join(", "))
+    })
+}
+
+fn or_none(name: Option<&str>) -> &str {
+    name.unwrap_or("none")
+}
+
+fn write_term(out: &mut String, t: &NamedTerm) {
+    out.push_str(&format!("  term: {} {}", t.name, t.term.class_name()));
+    for p in t.term.parameters() {
+        out.push(' ');
+        out.push_str(&number(p));
+    }
+    out.push('\n');
+}
+
+/// Writes `engine` as FLL.
+pub fn export(engine: &Engine) -> String {
+    let mut s = String::new();
+    let line = |s: &mut String, key: &str, value: &str| {
+        s.push_str(&format!("  {key}: {value}\n"));
+    };
+    s.push_str(&format!("Engine: {}\n", engine.name));
+    if !engine.description.is_empty() {
+        line(&mut s, "description", &engine.description);
+    }
+    for v in &engine.inputs {
+        s.push_str(&format!("InputVariable: {}\n", v.name));
+        if !v.description.is_empty() {
+            line(&mut s, "description", &v.description);
+        }
+        line(&mut s, "enabled", &v.enabled.to_string());
+        line(&mut s, "range", &format!("{} {}", number(v.minimum), number(v.maximum)));
+        line(&mut s, "lock-range", &v.lock_range.to_string());
+        for t in &v.terms {
+            write_term(&mut s, t);
+        }
+    }
+    for v in &engine.outputs {
+        s.push_str(&format!("OutputVariable: {}\n", v.name));
+        if !v.description.is_empty() {
+            line(&mut s, "description", &v.description);
+        }
+        line(&mut s, "enabled", &v.enabled.to_string());
+        line(&mut s, "range", &format!("{} {}", number(v.minimum), number(v.maximum)));
+        line(&mut s, "lock-range", &v.lock_range.to_string());
+        line(&mut s, "aggregation", or_none(v.aggregation.map(SNorm::name)));
+        let defuzzifier = match v.defuzzifier {
+            None => "none".to_string(),
+            Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
+                let k = match kind {
+                    WeightedKind::Automatic => "Automatic",
+                    WeightedKind::TakagiSugeno => "TakagiSugeno",
+                    WeightedKind::Tsukamoto => "Tsukamoto",
+                };
+                format!("{} {k}", d.name())
+            }
+            Some(d) => format!("{} {}", d.name(), d.resolution().unwrap_or_default()),
+        };
+        line(&mut s, "defuzzifier", &defuzzifier);
+        line(&mut s, "default", &number(v.default_value));
+        line(&mut s, "lock-previous", &v.lock_previous.to_string());
+        for t in &v.terms {
+            write_term(&mut s, t);
+        }
+    }
+    for b in &engine.rule_blocks {
+        s.push_str(&format!("RuleBlock: {}\n", b.name));
+        if !b.description.is_empty() {
+            line(&mut s, "description", &b.description);
+        }
+        line(&mut s, "enabled", &b.enabled.to_string());
+        line(&mut s, "conjunction", or_none(b.conjunction.map(TNorm::name)));
+        line(&mut s, "disjunction", or_none(b.disjunction.map(SNorm::name)));
+        line(&mut s, "implication", or_none(b.implication.map(TNorm::name)));
+        let params = b.activation.parameters();
+        let activation =
+            if params.is_empty() { b.activation.name().to_string() } else { format!("{} {params}", b.activation.name()) };
+        line(&mut s, "activation", &activation);
+        for r in &b.rules {
+            line(&mut s, "rule", &r.to_text(&engine.inputs, &engine.outputs));
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = "\
+Engine: tipper
+  description: a small Mamdani engine # with a comment
+InputVariable: service
+  enabled: true
+  range: 0.000 10.000
+  lock-range: false
+  term: poor Gaussian 0.000 1.500
+  term: good Gaussian 5.000 1.500
+  term: excellent Gaussian 10.000 1.500
+OutputVariable: tip
+  enabled: true
+  range: 0.000 30.000
+  lock-range: false
+  accumulation: Maximum
+  defuzzifier: Centroid 200
+  default: nan
+  lock-valid: false
+  term: cheap Triangle 0.000 5.000 10.000
+  term: average Triangle 10.000 15.000 20.000
+  term: generous Triangle 20.000 25.000 30.000
+RuleBlock: rules
+  enabled: true
+  conjunction: Minimum
+  disjunction: Maximum
+  activation: Minimum
+  rule: if service is poor then tip is cheap
+  rule: if service is good then tip is average
+  rule: if service is excellent then tip is generous with 0.5
+";
+
+    #[test]
+    fn imports_legacy_and_round_trips() {
+        let e = import(SMALL, "tipper.fll").unwrap();
+        assert_eq!(e.name, "tipper");
+        assert_eq!(e.rule_blocks[0].implication, Some(TNorm::Minimum));
+        assert_eq!(e.outputs[0].aggregation, Some(SNorm::Maximum));
+        assert_eq!(e.outputs[0].defuzzifier, Some(Defuzzifier::Centroid { resolution: 200 }));
+        assert_eq!(e.rule_blocks[0].rules[2].weight, 0.5);
+        let again = import(&export(&e), "again.fll").unwrap();
+        assert_eq!(e.inputs, again.inputs);
+        assert_eq!(e.rule_blocks, again.rule_blocks);
+        assert_eq!(e.outputs[0].terms, again.outputs[0].terms);
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let bad = SMALL.replace("if service is good then", "if service is goood then");
+        let err = import(&bad, "t.fll").unwrap_err();
+        assert_eq!((err.line, err.col), (27, 23), "{err}");
+        assert!(err.to_string().starts_with("t.fll:27:23: unknown term 'goood'"), "{err}");
+        let bad = SMALL.replace("range: 0.000 30.000", "range: 30 0");
+        let err = import(&bad, "t.fll").unwrap_err();
+        assert_eq!((err.line, err.col), (12, 10), "{err}");
+        let bad = SMALL.replace("Gaussian 5.000 1.500", "Gaussian 5.000 x");
+        let err = import(&bad, "t.fll").unwrap_err();
+        assert_eq!(err.line, 8);
+        assert!(err.message.contains("'x'"), "{err}");
+        let bad = SMALL.replace("  enabled: true\n  range: 0.000 10.000", "  enabled: yes\n  range: 0.000 10.000");
+        assert_eq!(import(&bad, "t.fll").unwrap_err().line, 4);
+        assert!(import("just words", "t.fll").is_err());
+        assert!(import("", "t.fll").is_err());
+        let dup = SMALL.replace("term: good Gaussian", "term: poor Gaussian");
+        assert!(import(&dup, "t.fll").unwrap_err().message.contains("two terms"));
+    }
+
+    #[test]
+    fn numbers() {
+        for x in [0.0, -1.5, 1e-300, f64::INFINITY, f64::NEG_INFINITY, 0.1 + 0.2] {
+            assert_eq!(parse_number(&number(x)), Some(x));
+        }
+        assert!(parse_number(&number(f64::NAN)).unwrap().is_nan());
+        assert_eq!(parse_number("abc"), None);
+    }
+}

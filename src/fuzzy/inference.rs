@@ -1,0 +1,563 @@
+//! Running an engine: the fast, compiled inference used everywhere in strider (seed 000 §3.1).
+//!
+//! [`Inference::new`] validates an [`Engine`] and compiles it: propositions used by several
+//! rules are evaluated once, antecedents become small postfix programs, and every output
+//! term of an integral output is pre-sampled at the defuzzifier's sample points together with
+//! the index span where it is non-zero. With maximum aggregation, activations of the same
+//! output term are grouped first (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any
+//! T-norm), so each output term is folded in once, and only over its support.
+//!
+//! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
+//! its degree is positive (NaN never fires); an output on which no rule fired, or whose
+//! result is undefined, takes its previous value (lock-previous) or its default value. Results agree with the naive
+//! [`crate::fuzzy::reference`] evaluation to within floating-point rounding.
+//!
+//! Invariant: `process` allocates nothing and never panics.
+
+use super::defuzz::{self, Weighted};
+use super::engine::{Activation, Defuzzifier, Engine, EngineError, OutputVariable};
+use super::norm::{Hedge, SNorm, TNorm};
+use super::rule::Antecedent;
+
+/// Propositions with activation degree at or below this do not fire.
+pub const FIRING_THRESHOLD: f64 = 0.0;
+
+#[derive(Debug, Clone, PartialEq)]
+struct Prop {
+    input: usize,
+    term: Option<usize>,
+    hedges: Vec<Hedge>,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Op {
+    Load(u32),
+    And,
+    Or,
+}
+
+#[derive(Debug, Clone)]
+struct CompiledRule {
+    program: std::ops::Range<usize>,
+    conclusions: std::ops::Range<usize>,
+    weight: f64,
+}
+
+#[derive(Debug, Clone)]
+struct CompiledConclusion {
+    output: usize,
+    term: usize,
+    hedges: Vec<Hedge>,
+}
+
+#[derive(Debug, Clone)]
+struct CompiledBlock {
+    enabled: bool,
+    conjunction: TNorm,
+    disjunction: SNorm,
+    implication: TNorm,
+    activation: Activation,
+    rules: std::ops::Range<usize>,
+}
+
+#[derive(Debug, Clone)]
+struct CompiledOutput {
+    /// `terms × resolution` samples (integral outputs only).
+    samples: Vec<f64>,
+    /// Non-zero sample span per term.
+    support: Vec<(usize, usize)>,
+    resolution: usize,
+    /// Aggregated membership buffer.
+    mu: Vec<f64>,
+    /// Activated terms this step as `(term, implication, degree)`, see [`record_activation`].
+    activated: Vec<(usize, TNorm, f64)>,
+}
+
+/// A compiled engine with its state (input values, output values, rule activations).
+#[derive(Debug, Clone)]
+pub struct Inference {
+    engine: Engine,
+    inputs: Vec<f64>,
+    outputs: Vec<f64>,
+    previous: Vec<f64>,
+    props: Vec<Prop>,
+    prop_values: Vec<f64>,
+    program: Vec<Op>,
+    rules: Vec<CompiledRule>,
+    conclusions: Vec<CompiledConclusion>,
+    blocks: Vec<CompiledBlock>,
+    degrees: Vec<f64>,
+    fired: Vec<bool>,
+    outs: Vec<CompiledOutput>,
+    stack: Vec<f64>,
+    order: Vec<usize>,
+}
+
+/// How strongly one rule was activated in the last [`Inference::process`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RuleActivation {
+    /// Index of the rule block.
+    pub block: usize,
+    /// Index of the rule within the block.
+    pub rule: usize,
+    /// Activation degree after weight and activation method (NaN when an input was NaN).
+    pub degree: f64,
+    /// Whether the rule fired (contributed to an output).
+    pub fired: bool,
+}
+
+/// Rules that fire under `activation`, given their degrees. May rescale `degrees`
+/// (proportional activation). `order` is scratch space.
+pub(crate) fn select_rules(activation: Activation, degrees: &mut [f64], fired: &mut [bool], order: &mut Vec<usize>) {
+    let positive = |d: f64| d > FIRING_THRESHOLD;
+    match activation {
+        Activation::General => {
+            for (f, &d) in fired.iter_mut().zip(degrees.iter()) {
+                *f = positive(d);
+            }
+        }
+        Activation::Proportional => {
+            let sum: f64 = degrees.iter().filter(|d| positive(**d)).sum();
+            for (f, d) in fired.iter_mut().zip(degrees.iter_mut()) {
+                *f = positive(*d);
+                if *f {
+                    *d /= sum;
+                }
+            }
+        }
+        Activation::First { rules, threshold } | Activation::Last { rules, threshold } => {
+            fired.fill(false);
+            let mut count = 0;
+            let n = degrees.len();
+            for k in 0..n {
+                let i = if matches!(activation, Activation::First { .. }) { k } else { n - 1 - k };
+                if count < rules && positive(degrees[i]) && degrees[i] >= threshold {
+                    fired[i] = true;
+                    count += 1;
+                }
+            }
+        }
+        Activation::Highest { rules } | Activation::Lowest { rules } => {
+            fired.fill(false);
+            order.clear();
+            order.extend((0..degrees.len()).filter(|&i| positive(degrees[i])));
+            // Stable sort keeps rule order among equal degrees.
+            if matches!(activation, Activation::Highest { .. }) {
+                order.sort_by(|&a, &b| degrees[b].total_cmp(&degrees[a]));
+            } else {
+                order.sort_by(|&a, &b| degrees[a].total_cmp(&degrees[b]));
+            }
+            for &i in order.iter().take(rules) {
+                fired[i] = true;
+            }
+        }
+        Activation::Threshold { comparison, value } => {
+            for (f, &d) in fired.iter_mut().zip(degrees.iter()) {
+                *f = positive(d) && comparison.holds(d, value);
+            }
+        }
+    }
+}
+
+/// The crisp value of an output after defuzzification. An undefined result (`None`: no rule
+/// fired; or NaN) becomes the previous value under lock-previous when that is a number, else
+/// the default value; then lock-range clamps.
+pub(crate) fn finish_output(out: &OutputVariable, value: Option<f64>, previous: f64) -> f64 {
+    let mut v = value.unwrap_or(f64::NAN);
+    if v.is_nan() && out.lock_previous {
+        v = previous;
+    }
+    if v.is_nan() {
+        v = out.default_value;
+    }
+    if out.lock_range && !v.is_nan() { v.clamp(out.minimum, out.maximum) } else { v }
+}
+
+/// Records one activation of an output term. Weighted outputs keep one entry per term,
+/// merged with the aggregation (a plain sum without one); integral outputs under maximum
+/// aggregation merge entries of the same term and implication by their maximum, which gives
+/// the same aggregate because every T-norm is monotone.
+pub(crate) fn record_activation(list: &mut Vec<(usize, TNorm, f64)>, var: &OutputVariable, new: (usize, TNorm, f64)) {
+    let weighted = var.defuzzifier.is_some_and(|d| d.resolution().is_none());
+    if weighted {
+        if let Some(e) = list.iter_mut().find(|e| e.0 == new.0) {
+            e.2 = var.aggregation.unwrap_or(SNorm::UnboundedSum).apply(e.2, new.2);
+            return;
+        }
+    } else if var.aggregation == Some(SNorm::Maximum)
+        && let Some(e) = list.iter_mut().find(|e| e.0 == new.0 && e.1 == new.1)
+    {
+        if new.2 > e.2 {
+            e.2 = new.2;
+        }
+        return;
+    }
+    list.push(new);
+}
+
+/// `hedges` applied last to first.
+#[inline]
+pub(crate) fn apply_hedges(hedges: &[Hedge], mut x: f64) -> f64 {
+    for h in hedges.iter().rev() {
+        x = h.apply(x);
+    }
+    x
+}
+
+/// Combines two antecedent degrees; NaN on either side gives NaN.
+#[inline]
+pub(crate) fn combine(a: f64, b: f64, op: impl FnOnce(f64, f64) -> f64) -> f64 {
+    if a.is_nan() || b.is_nan() { f64::NAN } else { op(a, b) }
+}
+
+impl Inference {
+    /// Validates and compiles `engine`.
+    pub fn new(engine: &Engine) -> Result<Inference, EngineError> {
+        engine.validate()?;
+        let mut props: Vec<Prop> = Vec::new();
+        let mut program = Vec::new();
+        let mut rules = Vec::new();
+        let mut conclusions = Vec::new();
+        let mut blocks = Vec::new();
+        fn emit(a: &Antecedent, props: &mut Vec<Prop>, program: &mut Vec<Op>) {
+            match a {
+                Antecedent::Proposition(p) => {
+                    let prop = Prop { input: p.variable, term: p.term, hedges: p.hedges.clone() };
+                    let idx = props.iter().position(|q| *q == prop).unwrap_or_else(|| {
+                        props.push(prop);
+                        props.len() - 1
+                    });
+                    program.push(Op::Load(idx as u32));
+                }
+                Antecedent::And(l, r) => {
+                    emit(l, props, program);
+                    emit(r, props, program);
+                    program.push(Op::And);
+                }
+                Antecedent::Or(l, r) => {
+                    emit(l, props, program);
+                    emit(r, props, program);
+                    program.push(Op::Or);
+                }
+            }
+        }
+        let mut max_depth = 1;
+        for block in &engine.rule_blocks {
+            let start = rules.len();
+            for rule in &block.rules {
+                let p0 = program.len();
+                emit(&rule.antecedent, &mut props, &mut program);
+                let c0 = conclusions.len();
+                for c in &rule.consequent {
+                    conclusions.push(CompiledConclusion { output: c.variable, term: c.term, hedges: c.hedges.clone() });
+                }
+                max_depth = max_depth.max(program.len() - p0);
+                rules.push(CompiledRule { program: p0..program.len(), conclusions: c0..conclusions.len(), weight: rule.weight });
+            }
+            blocks.push(CompiledBlock {
+                enabled: block.enabled,
+                conjunction: block.conjunction.unwrap_or(TNorm::Minimum),
+                disjunction: block.disjunction.unwrap_or(SNorm::Maximum),
+                implication: block.implication.unwrap_or(TNorm::Minimum),
+                activation: block.activation,
+                rules: start..rules.len(),
+            });
+        }
+        let outs = engine.outputs.iter().map(compile_output).collect();
+        let n_rules = rules.len();
+        Ok(Inference {
+            engine: engine.clone(),
+            inputs: vec![f64::NAN; engine.inputs.len()],
+            outputs: vec![f64::NAN; engine.outputs.len()],
+            previous: vec![f64::NAN; engine.outputs.len()],
+            prop_values: vec![0.0; props.len()],
+            props,
+            program,
+            rules,
+            conclusions,
+            blocks,
+            degrees: vec![0.0; n_rules],
+            fired: vec![false; n_rules],
+            outs,
+            stack: Vec::with_capacity(max_depth),
+            order: Vec::with_capacity(n_rules),
+        })
+    }
+
+    /// The engine this inference runs.
+    pub fn engine(&self) -> &Engine {
+        &self.engine
+    }
+
+    /// Sets input `index` (out-of-range indices are ignored).
+    pub fn set_input(&mut self, index: usize, value: f64) {
+        if let Some(v) = self.inputs.get_mut(index) {
+            *v = value;
+        }
+    }
+
+    /// Sets the input called `name`; false if there is none.
+    pub fn set_input_by_name(&mut self, name: &str, value: f64) -> bool {
+        match self.engine.input_index(name) {
+            Some(i) => {
+                self.inputs[i] = value;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Sets all inputs at once (extra values are ignored, missing ones keep their value).
+    pub fn set_inputs(&mut self, values: &[f64]) {
+        for (dst, src) in self.inputs.iter_mut().zip(values) {
+            *dst = *src;
+        }
+    }
+
+    /// Current input values.
+    pub fn inputs(&self) -> &[f64] {
+        &self.inputs
+    }
+
+    /// Output values of the last [`Inference::process`] (NaN before the first).
+    pub fn outputs(&self) -> &[f64] {
+        &self.outputs
+    }
+
+    /// The value of the output called `name`.
+    pub fn output_by_name(&self, name: &str) -> Option<f64> {
+        self.engine.output_index(name).map(|i| self.outputs[i])
+    }
+
+    /// Forgets output history (lock-previous) and sets every value to NaN.
+    pub fn reset(&mut self) {
+        self.inputs.fill(f64::NAN);
+        self.outputs.fill(f64::NAN);
+        self.previous.fill(f64::NAN);
+        self.degrees.fill(0.0);
+        self.fired.fill(false);
+    }
+
+    /// Rule activations of the last [`Inference::process`], in block and rule order.
+    pub fn rule_activations(&self) -> impl Iterator<Item = RuleActivation> + '_ {
+        self.blocks.iter().enumerate().flat_map(move |(b, block)| {
+            block.rules.clone().enumerate().map(move |(r, i)| RuleActivation {
+                block: b,
+                rule: r,
+                degree: self.degrees[i],
+                fired: self.fired[i],
+            })
+        })
+    }
+
+    /// Membership degree of every term of input `index` at its current value.
+    pub fn input_memberships(&self, index: usize) -> Vec<f64> {
+        let var = &self.engine.inputs[index];
+        let x = self.inputs[index];
+        var.terms.iter().map(|t| t.term.membership_with(x, &self.inputs)).collect()
+    }
+
+    /// Runs one inference: fuzzify, fire rules, aggregate, defuzzify.
+    pub fn process(&mut self) {
+        // Fuzzify: lock-range clamps inputs, then every distinct proposition is evaluated once.
+        let engine = &self.engine;
+        for (i, var) in engine.inputs.iter().enumerate() {
+            if var.lock_range && !self.inputs[i].is_nan() {
+                self.inputs[i] = self.inputs[i].clamp(var.minimum, var.maximum);
+            }
+        }
+        for (value, prop) in self.prop_values.iter_mut().zip(&self.props) {
+            let var = &engine.inputs[prop.input];
+            *value = if !var.enabled {
+                0.0
+            } else {
+                let base = match prop.term {
+                    Some(t) if prop.hedges.last() != Some(&Hedge::Any) => {
+                        var.terms[t].term.membership_with(self.inputs[prop.input], &self.inputs)
+                    }
+                    _ => f64::NAN,
+                };
+                apply_hedges(&prop.hedges, base)
+            };
+        }
+        for out in &mut self.outs {
+            out.activated.clear();
+        }
+        self.previous.copy_from_slice(&self.outputs);
+        // Rules.
+        for block in &self.blocks {
+            let range = block.rules.clone();
+            if !block.enabled {
+                self.degrees[range.clone()].fill(0.0);
+                self.fired[range].fill(false);
+                continue;
+            }
+            for i in range.clone() {
+                let rule = &self.rules[i];
+                self.stack.clear();
+                for op in &self.program[rule.program.clone()] {
+                    let v = match *op {
+                        Op::Load(p) => self.prop_values[p as usize],
+                        Op::And => {
+                            let b = self.stack.pop().unwrap_or(f64::NAN);
+                            let a = self.stack.pop().unwrap_or(f64::NAN);
+                            combine(a, b, |a, b| block.conjunction.apply(a, b))
+                        }
+                        Op::Or => {
+                            let b = self.stack.pop().unwrap_or(f64::NAN);
+                            let a = self.stack.pop().unwrap_or(f64::NAN);
+                            combine(a, b, |a, b| block.disjunction.apply(a, b))
+                        }
+                    };
+                    self.stack.push(v);
+                }
+                self.degrees[i] = rule.weight * self.stack.pop().unwrap_or(f64::NAN);
+            }
+            select_rules(block.activation, &mut self.degrees[range.clone()], &mut self.fired[range.clone()], &mut self.order);
+            for i in range {
+                if !self.fired[i] {
+                    continue;
+                }
+                let rule = &self.rules[i];
+                for c in &self.conclusions[rule.conclusions.clone()] {
+                    if !engine.outputs[c.output].enabled {
+                        continue;
+                    }
+                    let degree = apply_hedges(&c.hedges, self.degrees[i]);
+                    let new = (c.term, block.implication, degree);
+                    record_activation(&mut self.outs[c.output].activated, &engine.outputs[c.output], new);
+                }
+            }
+        }
+        // Defuzzify.
+        for (o, var) in engine.outputs.iter().enumerate() {
+            if !var.enabled {
+                continue;
+            }
+            let out = &mut self.outs[o];
+            let value = if out.activated.is_empty() {
+                None
+            } else {
+                match var.defuzzifier {
+                    None => None,
+                    Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
+                        let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
+                        let n = out.activated.len();
+                        let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
+                        if n <= list.len() {
+                            for (slot, a) in list.iter_mut().zip(&out.activated) {
+                                *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
+                            }
+                            Some(defuzz::weighted(kind, &list[..n], &self.inputs, sum_only))
+                        } else {
+                            let list: Vec<Weighted> = out
+                                .activated
+                                .iter()
+                                .map(|a| Weighted { term: &var.terms[a.0].term, degree: a.2 })
+                                .collect();
+                            Some(defuzz::weighted(kind, &list, &self.inputs, sum_only))
+                        }
+                    }
+                    Some(d) => {
+                        if var.aggregation.is_none() && out.activated.len() > 1 {
+                            None
+                        } else {
+                            Some(out.aggregate_and_defuzzify(&d, var))
+                        }
+                    }
+                }
+            };
+            self.outputs[o] = finish_output(var, value, self.previous[o]);
+        }
+    }
+}
+
+fn compile_output(var: &OutputVariable) -> CompiledOutput {
+    let resolution = var.defuzzifier.and_then(|d| d.resolution()).unwrap_or(0);
+    let mut samples = Vec::with_capacity(resolution * var.terms.len());
+    let mut support = Vec::with_capacity(var.terms.len());
+    for t in &var.terms {
+        let start = samples.len();
+        samples.extend((0..resolution).map(|i| t.term.membership(defuzz::sample_x(var.minimum, var.maximum, resolution, i))));
+        let row = &samples[start..];
+        let lo = row.iter().position(|y| *y != 0.0).unwrap_or(resolution);
+        let hi = row.iter().rposition(|y| *y != 0.0).map_or(lo, |i| i + 1);
+        support.push((lo, hi));
+    }
+    CompiledOutput {
+        samples,
+        support,
+        resolution,
+        mu: vec![0.0; resolution],
+        activated: Vec::with_capacity(var.terms.len()),
+    }
+}
+
+impl CompiledOutput {
+    fn aggregate_and_defuzzify(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
+        let n = self.resolution;
+        let (mut lo, mut hi) = (n, 0);
+        for a in &self.activated {
+            let (l, h) = self.support[a.0];
+            lo = lo.min(l);
+            hi = hi.max(h);
+        }
+        if lo >= hi {
+            // Every activated term is zero at every sample: no area.
+            return if matches!(d, Defuzzifier::Centroid { .. }) {
+                f64::NAN
+            } else {
+                self.mu.fill(0.0);
+                defuzz::integral(d, var.minimum, var.maximum, &self.mu)
+            };
+        }
+        let whole = !matches!(d, Defuzzifier::Centroid { .. });
+        if whole {
+            self.mu.fill(0.0);
+        } else {
+            self.mu[lo..hi].fill(0.0);
+        }
+        let aggregation = var.aggregation.unwrap_or(SNorm::Maximum);
+        for &(term, implication, d) in &self.activated {
+            let (l, h) = self.support[term];
+            let row = &self.samples[term * n + l..term * n + h];
+            let mu = &mut self.mu[l..h];
+            match (implication, aggregation) {
+                (TNorm::Minimum, SNorm::Maximum) => {
+                    for (m, &s) in mu.iter_mut().zip(row) {
+                        let v = if d < s { d } else { s };
+                        *m = if *m > v { *m } else { v };
+                    }
+                }
+                (TNorm::AlgebraicProduct, SNorm::Maximum) => {
+                    for (m, &s) in mu.iter_mut().zip(row) {
+                        let v = d * s;
+                        *m = if *m > v { *m } else { v };
+                    }
+                }
+                (imp, agg) => {
+                    for (m, &s) in mu.iter_mut().zip(row) {
+                        *m = agg.apply(*m, imp.apply(d, s));
+                    }
+                }
+            }
+        }
+        if whole {
+            defuzz::integral(d, var.minimum, var.maximum, &self.mu)
+        } else {
+            centroid_span(var.minimum, var.maximum, n, &self.mu[lo..hi], lo)
+        }
+    }
+}
+
+/// Centroid over a span of samples starting at index `offset` (samples outside are zero).
+fn centroid_span(minimum: f64, maximum: f64, n: usize, mu: &[f64], offset: usize) -> f64 {
+    let dx = (maximum - minimum) / n as f64;
+    let (mut area, mut moment) = (0.0, 0.0);
+    for (k, &y) in mu.iter().enumerate() {
+        let x = minimum + ((offset + k) as f64 + 0.5) * dx;
+        area += y;
+        moment += y * x;
+    }
+    moment / area
+}

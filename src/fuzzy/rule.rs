@@ -1,0 +1,423 @@
+//! Fuzzy rules in the FuzzyLite rule grammar, used by FLL files and Rhai scripts alike
+//! (seed 000 §3.1: the rule bases of the goal-seeking, obstacle-avoidance and speed layers).
+//!
+//! ```text
+//! rule        := "if" antecedent "then" conclusion ("and" conclusion)* ("with" number)?
+//! antecedent  := conjunction ("or" conjunction)*
+//! conjunction := factor ("and" factor)*
+//! factor      := "(" antecedent ")" | input "is" hedge* (term | "any")
+//! conclusion  := output "is" hedge* term
+//! ```
+//! `and` binds tighter than `or`; both associate to the left. Hedges apply right to left
+//! (`very not near` = very(not(near))). Invariant: a parsed [`Rule`] only holds indices that
+//! exist in the variables it was parsed against.
+
+use super::engine::{InputVariable, OutputVariable};
+use super::norm::Hedge;
+
+/// A condition over input variables.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Antecedent {
+    /// `variable is hedges term`.
+    Proposition(Proposition),
+    /// Both sides, combined with the block's conjunction.
+    And(Box<Antecedent>, Box<Antecedent>),
+    /// Either side, combined with the block's disjunction.
+    Or(Box<Antecedent>, Box<Antecedent>),
+}
+
+/// `input is hedges term` inside an antecedent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Proposition {
+    /// Index of the input variable.
+    pub variable: usize,
+    /// Hedges in the order written (applied last to first).
+    pub hedges: Vec<Hedge>,
+    /// Index of the term; `None` for `is any`.
+    pub term: Option<usize>,
+}
+
+/// `output is hedges term` in a rule's consequent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conclusion {
+    /// Index of the output variable.
+    pub variable: usize,
+    /// Hedges in the order written (applied last to first to the activation degree).
+    pub hedges: Vec<Hedge>,
+    /// Index of the output term.
+    pub term: usize,
+}
+
+/// One rule: antecedent, conclusions and weight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rule {
+    /// The condition.
+    pub antecedent: Antecedent,
+    /// What the rule asserts, one or more outputs.
+    pub consequent: Vec<Conclusion>,
+    /// Weight multiplying the activation degree (`with w`, default 1).
+    pub weight: f64,
+}
+
+/// A rule that failed to parse: `col` is the 1-based character column within the rule text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RuleError {
+    /// 1-based character column where the problem starts.
+    pub col: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl std::fmt::Display for RuleError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "column {}: {}", self.col, self.message)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Token<'a> {
+    text: &'a str,
+    col: usize,
+}
+
+fn tokenize(text: &str) -> Vec<Token<'_>> {
+    let mut tokens = Vec::new();
+    let mut start: Option<(usize, usize)> = None; // (byte, col)
+    let mut col = 0;
+    for (byte, ch) in text.char_indices() {
+        col += 1;
+        let is_paren = ch == '(' || ch == ')';
+        if ch.is_whitespace() || is_paren {
+            if let Some((b, c)) = start.take() {
+                tokens.push(Token { text: &text[b..byte], col: c });
+            }
+            if is_paren {
+                tokens.push(Token { text: &text[byte..byte + 1], col });
+            }
+        } else if start.is_none() {
+            start = Some((byte, col));
+        }
+    }
+    if let Some((b, c)) = start {
+        tokens.push(Token { text: &text[b..], col: c });
+    }
+    tokens
+}
+
+struct Parser<'a, 'v> {
+    tokens: Vec<Token<'a>>,
+    pos: usize,
+    end_col: usize,
+    inputs: &'v [InputVariable],
+    outputs: &'v [OutputVariable],
+}
+
+impl<'a> Parser<'a, '_> {
+    fn peek(&self) -> Option<Token<'a>> {
+        self.tokens.get(self.pos).copied()
+    }
+
+    fn next(&mut self, expected: &str) -> Result<Token<'a>, RuleError> {
+        let token = self
+            .peek()
+            .ok_or_else(|| RuleError { col: self.end_col, message: format!("expected {expected}, found end of rule") })?;
+        self.pos += 1;
+        Ok(token)
+    }
+
+    fn keyword(&mut self, word: &str) -> Result<(), RuleError> {
+        let t = self.next(&format!("'{word}'"))?;
+        if t.text == word {
+            Ok(())
+        } else {
+            Err(RuleError { col: t.col, message: format!("expected '{word}', found '{}'", t.text) })
+        }
+    }
+
+    fn antecedent(&mut self) -> Result<Antecedent, RuleError> {
+        let mut left = self.conjunction()?;
+        while self.peek().is_some_and(|t| t.text == "or") {
+            self.pos += 1;
+            let right = self.conjunction()?;
+            left = Antecedent::Or(Box::new(left), Box::new(right));
+        }
+        Ok(left)
+    }
+
+    fn conjunction(&mut self) -> Result<Antecedent, RuleError> {
+        let mut left = self.factor()?;
+        while self.peek().is_some_and(|t| t.text == "and") {
+            self.pos += 1;
+            let right = self.factor()?;
+            left = Antecedent::And(Box::new(left), Box::new(right));
+        }
+        Ok(left)
+    }
+
+    fn factor(&mut self) -> Result<Antecedent, RuleError> {
+        let t = self.next("an input variable or '('")?;
+        if t.text == "(" {
+            let inner = self.antecedent()?;
+            let close = self.next("')'")?;
+            if close.text != ")" {
+                return Err(RuleError { col: close.col, message: format!("expected ')', found '{}'", close.text) });
+            }
+            return Ok(inner);
+        }
+        let variable = self.inputs.iter().position(|v| v.name == t.text).ok_or_else(|| {
+            let message = if self.outputs.iter().any(|v| v.name == t.text) {
+                format!("'{}' is an output variable; antecedents take input variables", t.text)
+            } else {
+                format!("unknown input variable '{}'", t.text)
+            };
+            RuleError { col: t.col, message }
+        })?;
+        self.keyword("is")?;
+        let terms: Vec<&str> = self.inputs[variable].terms.iter().map(|t| t.name.as_str()).collect();
+        let (hedges, term) = self.hedged_term(&self.inputs[variable].name, &terms, true)?;
+        Ok(Antecedent::Proposition(Proposition { variable, hedges, term }))
+    }
+
+    /// Reads `hedge* term` (or `hedge* any` when `allow_any`). Term names win over hedge words.
+    fn hedged_term(
+        &mut self,
+        var_name: &str,
+        terms: &[&str],
+        allow_any: bool,
+    ) -> Result<(Vec<Hedge>, Option<usize>), RuleError> {
+        let mut hedges = Vec::new();
+        loop {
+            let t = self.next(&format!("a term of '{var_name}'"))?;
+            if let Some(i) = terms.iter().position(|name| *name == t.text) {
+                return Ok((hedges, Some(i)));
+            }
+            match Hedge::from_name(t.text) {
+                Some(Hedge::Any) if allow_any => {
+                    hedges.push(Hedge::Any);
+                    return Ok((hedges, None));
+                }
+                Some(Hedge::Any) => {
+                    return Err(RuleError { col: t.col, message: "'any' cannot appear in a conclusion".into() });
+                }
+                Some(h) => hedges.push(h),
+                None => {
+                    return Err(RuleError {
+                        col: t.col,
+                        message: format!("unknown term '{}' for variable '{var_name}' (terms: {})", t.text, terms.join(", ")),
+                    });
+                }
+            }
+        }
+    }
+
+    fn conclusion(&mut self) -> Result<Conclusion, RuleError> {
+        let t = self.next("an output variable")?;
+        let variable = self.outputs.iter().position(|v| v.name == t.text).ok_or_else(|| {
+            let message = if self.inputs.iter().any(|v| v.name == t.text) {
+                format!("'{}' is an input variable; conclusions take output variables", t.text)
+            } else {
+                format!("unknown output variable '{}'", t.text)
+            };
+            RuleError { col: t.col, message }
+        })?;
+        self.keyword("is")?;
+        let terms: Vec<&str> = self.outputs[variable].terms.iter().map(|t| t.name.as_str()).collect();
+        let (hedges, term) = self.hedged_term(&self.outputs[variable].name, &terms, false)?;
+        let term = term.ok_or_else(|| RuleError { col: t.col, message: "missing term".into() })?;
+        Ok(Conclusion { variable, hedges, term })
+    }
+}
+
+impl Rule {
+    /// Parses rule text against the engine's variables.
+    pub fn parse(text: &str, inputs: &[InputVariable], outputs: &[OutputVariable]) -> Result<Rule, RuleError> {
+        let tokens = tokenize(text);
+        let end_col = text.chars().count() + 1;
+        let mut p = Parser { tokens, pos: 0, end_col, inputs, outputs };
+        p.keyword("if")?;
+        let antecedent = p.antecedent()?;
+        p.keyword("then")?;
+        let mut consequent = vec![p.conclusion()?];
+        let mut weight = 1.0;
+        while let Some(t) = p.peek() {
+            p.pos += 1;
+            match t.text {
+                "and" => consequent.push(p.conclusion()?),
+                "with" => {
+                    let w = p.next("a weight")?;
+                    weight = w.text.parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| {
+                        RuleError { col: w.col, message: format!("weight must be a finite number ≥ 0, found '{}'", w.text) }
+                    })?;
+                    if let Some(extra) = p.peek() {
+                        return Err(RuleError { col: extra.col, message: format!("unexpected '{}' after the weight", extra.text) });
+                    }
+                }
+                other => {
+                    return Err(RuleError { col: t.col, message: format!("expected 'and' or 'with', found '{other}'") });
+                }
+            }
+        }
+        Ok(Rule { antecedent, consequent, weight })
+    }
+
+    /// Writes the rule back in the grammar above, with parentheses only where needed.
+    pub fn to_text(&self, inputs: &[InputVariable], outputs: &[OutputVariable]) -> String {
+        let mut s = String::from("if ");
+        write_antecedent(&mut s, &self.antecedent, inputs, false);
+        s.push_str(" then ");
+        for (i, c) in self.consequent.iter().enumerate() {
+            if i > 0 {
+                s.push_str(" and ");
+            }
+            let var = &outputs[c.variable];
+            s.push_str(&var.name);
+            s.push_str(" is ");
+            for h in &c.hedges {
+                s.push_str(h.name());
+                s.push(' ');
+            }
+            s.push_str(&var.terms[c.term].name);
+        }
+        if self.weight != 1.0 {
+            s.push_str(&format!(" with {}", super::fll::number(self.weight)));
+        }
+        s
+    }
+
+    /// True when the antecedent uses `and` (needs a conjunction operator).
+    pub fn uses_and(&self) -> bool {
+        fn walk(a: &Antecedent) -> bool {
+            match a {
+                Antecedent::Proposition(_) => false,
+                Antecedent::And(..) => true,
+                Antecedent::Or(l, r) => walk(l) || walk(r),
+            }
+        }
+        walk(&self.antecedent)
+    }
+
+    /// True when the antecedent uses `or` (needs a disjunction operator).
+    pub fn uses_or(&self) -> bool {
+        fn walk(a: &Antecedent) -> bool {
+            match a {
+                Antecedent::Proposition(_) => false,
+                Antecedent::Or(..) => true,
+                Antecedent::And(l, r) => walk(l) || walk(r),
+            }
+        }
+        walk(&self.antecedent)
+    }
+}
+
+fn write_antecedent(s: &mut String, a: &Antecedent, inputs: &[InputVariable], inside_and: bool) {
+    match a {
+        Antecedent::Proposition(p) => {
+            let var = &inputs[p.variable];
+            s.push_str(&var.name);
+            s.push_str(" is");
+            for h in &p.hedges {
+                s.push(' ');
+                s.push_str(h.name());
+            }
+            if let Some(t) = p.term {
+                s.push(' ');
+                s.push_str(&var.terms[t].name);
+            }
+        }
+        Antecedent::And(l, r) => {
+            write_antecedent(s, l, inputs, true);
+            s.push_str(" and ");
+            // Right operand of a left-associative chain needs parentheses if it is itself an And.
+            let needs = matches!(**r, Antecedent::And(..));
+            if needs {
+                s.push('(');
+            }
+            write_antecedent(s, r, inputs, true);
+            if needs {
+                s.push(')');
+            }
+        }
+        Antecedent::Or(l, r) => {
+            if inside_and {
+                s.push('(');
+            }
+            write_antecedent(s, l, inputs, false);
+            s.push_str(" or ");
+            let needs = matches!(**r, Antecedent::Or(..));
+            if needs {
+                s.push('(');
+            }
+            write_antecedent(s, r, inputs, false);
+            if needs {
+                s.push(')');
+            }
+            if inside_and {
+                s.push(')');
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fuzzy::engine::tests::two_by_two;
+
+    #[test]
+    fn parses_precedence_and_hedges() {
+        let e = two_by_two();
+        let r = Rule::parse(
+            "if distance is near or angle is very not left and angle is any then turn is right with 0.8",
+            &e.inputs,
+            &e.outputs,
+        )
+        .unwrap();
+        assert_eq!(r.weight, 0.8);
+        match &r.antecedent {
+            Antecedent::Or(l, r) => {
+                assert!(matches!(**l, Antecedent::Proposition(_)));
+                match &**r {
+                    Antecedent::And(a, b) => {
+                        let Antecedent::Proposition(a) = &**a else { panic!() };
+                        assert_eq!(a.hedges, vec![Hedge::Very, Hedge::Not]);
+                        let Antecedent::Proposition(b) = &**b else { panic!() };
+                        assert_eq!(b.term, None);
+                    }
+                    other => panic!("{other:?}"),
+                }
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn round_trips_through_text() {
+        let e = two_by_two();
+        for text in [
+            "if distance is near then turn is left",
+            "if (distance is near or distance is far) and angle is left then turn is right and speed is slow",
+            "if distance is near or (angle is left or angle is right) then turn is somewhat right with 0.5",
+            "if distance is near and (angle is left and angle is not right) then speed is fast",
+        ] {
+            let r = Rule::parse(text, &e.inputs, &e.outputs).unwrap();
+            let again = Rule::parse(&r.to_text(&e.inputs, &e.outputs), &e.inputs, &e.outputs).unwrap();
+            assert_eq!(r, again, "{text}");
+        }
+    }
+
+    #[test]
+    fn errors_name_the_column() {
+        let e = two_by_two();
+        let err = Rule::parse("if distance is nearr then turn is left", &e.inputs, &e.outputs).unwrap_err();
+        assert_eq!(err.col, 16);
+        assert!(err.message.contains("nearr"));
+        let err = Rule::parse("if speed is slow then turn is left", &e.inputs, &e.outputs).unwrap_err();
+        assert_eq!(err.col, 4);
+        let err = Rule::parse("if distance is near then", &e.inputs, &e.outputs).unwrap_err();
+        assert_eq!(err.col, 25);
+        let err = Rule::parse("if (distance is near then turn is left", &e.inputs, &e.outputs).unwrap_err();
+        assert!(err.message.contains("')'"), "{err}");
+        let err = Rule::parse("if distance is near then turn is left with x", &e.inputs, &e.outputs).unwrap_err();
+        assert_eq!(err.col, 44);
+    }
+}

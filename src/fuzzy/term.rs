@@ -1,0 +1,533 @@
+//! Membership functions (linguistic terms) of seed 000 §3.1, Fig 1, and the wider family the
+//! FuzzyLite Language knows.
+//!
+//! Every term maps a crisp value `x` to a membership degree. Shapes are scaled by an optional
+//! `height` (default 1), as in FLL where a term's last, optional parameter is its height.
+//! Invariants: a `NaN` input gives a `NaN` membership (the caller decides what that means),
+//! every shape except [`Term::Constant`], [`Term::Linear`] and [`Term::Discrete`] stays within
+//! `[0, height]`, and evaluation never panics.
+
+use std::f64::consts::PI;
+
+/// A membership function. Parameters are in the units of the variable that owns the term.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Term {
+    /// Rises from `a` to a peak at `b`, falls to `c`. Infinite `a`/`c` make a shoulder.
+    Triangle { a: f64, b: f64, c: f64, height: f64 },
+    /// Rises from `a` to `b`, flat to `c`, falls to `d`. Infinite `a`/`d` make a shoulder.
+    Trapezoid { a: f64, b: f64, c: f64, d: f64, height: f64 },
+    /// `height` on `[start, end]`, 0 elsewhere.
+    Rectangle { start: f64, end: f64, height: f64 },
+    /// Linear from 0 at `start` to `height` at `end` (either direction).
+    Ramp { start: f64, end: f64, height: f64 },
+    /// Gaussian bell `exp(-(x-mean)²/(2·sd²))`.
+    Gaussian { mean: f64, sd: f64, height: f64 },
+    /// Left half-gaussian up to `mean_a`, flat to `mean_b`, right half-gaussian after.
+    GaussianProduct { mean_a: f64, sd_a: f64, mean_b: f64, sd_b: f64, height: f64 },
+    /// Generalised bell `1 / (1 + |(x-center)/width|^(2·slope))`.
+    Bell { center: f64, width: f64, slope: f64, height: f64 },
+    /// Logistic `1 / (1 + exp(-slope·(x-inflection)))`.
+    Sigmoid { inflection: f64, slope: f64, height: f64 },
+    /// `|sigmoid(left, rising) − sigmoid(right, falling)|`.
+    SigmoidDifference { left: f64, rising: f64, falling: f64, right: f64, height: f64 },
+    /// `sigmoid(left, rising) · sigmoid(right, falling)`.
+    SigmoidProduct { left: f64, rising: f64, falling: f64, right: f64, height: f64 },
+    /// Smooth quadratic step from 0 at `start` to 1 at `end`.
+    SShape { start: f64, end: f64, height: f64 },
+    /// Smooth quadratic step from 1 at `start` to 0 at `end`.
+    ZShape { start: f64, end: f64, height: f64 },
+    /// S-shape from `bottom_left` to `top_left` times Z-shape from `top_right` to `bottom_right`.
+    PiShape { bottom_left: f64, top_left: f64, top_right: f64, bottom_right: f64, height: f64 },
+    /// Sharp peak `exp(-|10/width·(x-center)|)`.
+    Spike { center: f64, width: f64, height: f64 },
+    /// Raised cosine of the given `width` around `center`, 0 outside.
+    Cosine { center: f64, width: f64, height: f64 },
+    /// Concave curve through `inflection` (half height) reaching `height` at `end`.
+    Concave { inflection: f64, end: f64, height: f64 },
+    /// A constant value (Takagi-Sugeno consequents).
+    Constant { value: f64 },
+    /// `Σ cᵢ·inputᵢ + c_n` over the engine's input values (Takagi-Sugeno consequents).
+    Linear { coefficients: Vec<f64> },
+    /// Piecewise-linear through `(x, y)` points sorted by `x`; clamped outside.
+    Discrete { points: Vec<(f64, f64)>, height: f64 },
+}
+
+/// Sigmoid without height: `1 / (1 + exp(-slope·(x-inflection)))`.
+fn logistic(x: f64, inflection: f64, slope: f64) -> f64 {
+    1.0 / (1.0 + (-slope * (x - inflection)).exp())
+}
+
+fn s_shape(x: f64, start: f64, end: f64) -> f64 {
+    if x <= start {
+        0.0
+    } else if x <= 0.5 * (start + end) {
+        2.0 * ((x - start) / (end - start)).powi(2)
+    } else if x < end {
+        1.0 - 2.0 * ((x - end) / (end - start)).powi(2)
+    } else {
+        1.0
+    }
+}
+
+fn z_shape(x: f64, start: f64, end: f64) -> f64 {
+    if x <= start {
+        1.0
+    } else if x <= 0.5 * (start + end) {
+        1.0 - 2.0 * ((x - start) / (end - start)).powi(2)
+    } else if x < end {
+        2.0 * ((x - end) / (end - start)).powi(2)
+    } else {
+        0.0
+    }
+}
+
+impl Term {
+    /// The FLL class name of this term (`Triangle`, `Trapezoid`, …).
+    pub fn class_name(&self) -> &'static str {
+        match self {
+            Term::Triangle { .. } => "Triangle",
+            Term::Trapezoid { .. } => "Trapezoid",
+            Term::Rectangle { .. } => "Rectangle",
+            Term::Ramp { .. } => "Ramp",
+            Term::Gaussian { .. } => "Gaussian",
+            Term::GaussianProduct { .. } => "GaussianProduct",
+            Term::Bell { .. } => "Bell",
+            Term::Sigmoid { .. } => "Sigmoid",
+            Term::SigmoidDifference { .. } => "SigmoidDifference",
+            Term::SigmoidProduct { .. } => "SigmoidProduct",
+            Term::SShape { .. } => "SShape",
+            Term::ZShape { .. } => "ZShape",
+            Term::PiShape { .. } => "PiShape",
+            Term::Spike { .. } => "Spike",
+            Term::Cosine { .. } => "Cosine",
+            Term::Concave { .. } => "Concave",
+            Term::Constant { .. } => "Constant",
+            Term::Linear { .. } => "Linear",
+            Term::Discrete { .. } => "Discrete",
+        }
+    }
+
+    /// Builds a term from its class name (case-insensitive, `_`/`-` ignored, so `s_shape`,
+    /// `SShape` and `sshape` are the same) and its FLL parameter list. Shape terms take one
+    /// optional trailing parameter, their height.
+    pub fn from_parameters(class: &str, p: &[f64]) -> Result<Term, String> {
+        let key: String = class
+            .chars()
+            .filter(|c| *c != '_' && *c != '-')
+            .flat_map(char::to_lowercase)
+            .collect();
+        let fixed = |n: usize| -> Result<f64, String> {
+            match p.len() {
+                l if l == n => Ok(1.0),
+                l if l == n + 1 => Ok(p[n]),
+                l => Err(format!(
+                    "term {class} takes {n} parameters (plus an optional height), got {l}"
+                )),
+            }
+        };
+        if let Some(bad) = p.iter().position(|v| v.is_nan()) {
+            return Err(format!("parameter {} of term {class} is NaN", bad + 1));
+        }
+        let term = match key.as_str() {
+            "triangle" => {
+                let height = fixed(3)?;
+                Term::Triangle { a: p[0], b: p[1], c: p[2], height }
+            }
+            "trapezoid" => {
+                let height = fixed(4)?;
+                Term::Trapezoid { a: p[0], b: p[1], c: p[2], d: p[3], height }
+            }
+            "rectangle" => {
+                let height = fixed(2)?;
+                Term::Rectangle { start: p[0].min(p[1]), end: p[0].max(p[1]), height }
+            }
+            "ramp" => {
+                let height = fixed(2)?;
+                if p[0] == p[1] {
+                    return Err(format!("term {class} needs different start and end, both are {}", p[0]));
+                }
+                Term::Ramp { start: p[0], end: p[1], height }
+            }
+            "gaussian" => {
+                let height = fixed(2)?;
+                Term::Gaussian { mean: p[0], sd: p[1], height }
+            }
+            "gaussianproduct" => {
+                let height = fixed(4)?;
+                Term::GaussianProduct { mean_a: p[0], sd_a: p[1], mean_b: p[2], sd_b: p[3], height }
+            }
+            "bell" => {
+                let height = fixed(3)?;
+                Term::Bell { center: p[0], width: p[1], slope: p[2], height }
+            }
+            "sigmoid" => {
+                let height = fixed(2)?;
+                Term::Sigmoid { inflection: p[0], slope: p[1], height }
+            }
+            "sigmoiddifference" => {
+                let height = fixed(4)?;
+                Term::SigmoidDifference { left: p[0], rising: p[1], falling: p[2], right: p[3], height }
+            }
+            "sigmoidproduct" => {
+                let height = fixed(4)?;
+                Term::SigmoidProduct { left: p[0], rising: p[1], falling: p[2], right: p[3], height }
+            }
+            "sshape" => {
+                let height = fixed(2)?;
+                Term::SShape { start: p[0], end: p[1], height }
+            }
+            "zshape" => {
+                let height = fixed(2)?;
+                Term::ZShape { start: p[0], end: p[1], height }
+            }
+            "pishape" => {
+                let height = fixed(4)?;
+                Term::PiShape {
+                    bottom_left: p[0],
+                    top_left: p[1],
+                    top_right: p[2],
+                    bottom_right: p[3],
+                    height,
+                }
+            }
+            "spike" => {
+                let height = fixed(2)?;
+                Term::Spike { center: p[0], width: p[1], height }
+            }
+            "cosine" => {
+                let height = fixed(2)?;
+                Term::Cosine { center: p[0], width: p[1], height }
+            }
+            "concave" => {
+                let height = fixed(2)?;
+                Term::Concave { inflection: p[0], end: p[1], height }
+            }
+            "constant" => match p {
+                [value] => Term::Constant { value: *value },
+                _ => return Err(format!("term {class} takes 1 parameter, got {}", p.len())),
+            },
+            "linear" => Term::Linear { coefficients: p.to_vec() },
+            "discrete" => {
+                if p.len() < 2 {
+                    return Err(format!("term {class} needs at least one x y pair"));
+                }
+                let (pairs, height) = if p.len() % 2 == 0 { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
+                let points: Vec<(f64, f64)> = pairs.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+                if points.windows(2).any(|w| w[1].0 < w[0].0) {
+                    return Err(format!("term {class} needs its x values in ascending order"));
+                }
+                Term::Discrete { points, height }
+            }
+            _ => return Err(format!("unknown term class '{class}'")),
+        };
+        Ok(term)
+    }
+
+    /// The FLL parameter list of this term (height appended only when it is not 1).
+    pub fn parameters(&self) -> Vec<f64> {
+        let (mut v, height) = match self {
+            Term::Triangle { a, b, c, height } => (vec![*a, *b, *c], *height),
+            Term::Trapezoid { a, b, c, d, height } => (vec![*a, *b, *c, *d], *height),
+            Term::Rectangle { start, end, height }
+            | Term::Ramp { start, end, height }
+            | Term::SShape { start, end, height }
+            | Term::ZShape { start, end, height } => (vec![*start, *end], *height),
+            Term::Gaussian { mean, sd, height } => (vec![*mean, *sd], *height),
+            Term::GaussianProduct { mean_a, sd_a, mean_b, sd_b, height } => {
+                (vec![*mean_a, *sd_a, *mean_b, *sd_b], *height)
+            }
+            Term::Bell { center, width, slope, height } => (vec![*center, *width, *slope], *height),
+            Term::Sigmoid { inflection, slope, height } => (vec![*inflection, *slope], *height),
+            Term::SigmoidDifference { left, rising, falling, right, height }
+            | Term::SigmoidProduct { left, rising, falling, right, height } => {
+                (vec![*left, *rising, *falling, *right], *height)
+            }
+            Term::PiShape { bottom_left, top_left, top_right, bottom_right, height } => {
+                (vec![*bottom_left, *top_left, *top_right, *bottom_right], *height)
+            }
+            Term::Spike { center, width, height } | Term::Cosine { center, width, height } => {
+                (vec![*center, *width], *height)
+            }
+            Term::Concave { inflection, end, height } => (vec![*inflection, *end], *height),
+            Term::Constant { value } => (vec![*value], 1.0),
+            Term::Linear { coefficients } => (coefficients.clone(), 1.0),
+            Term::Discrete { points, height } => {
+                (points.iter().flat_map(|(x, y)| [*x, *y]).collect(), *height)
+            }
+        };
+        if height != 1.0 {
+            v.push(height);
+        }
+        v
+    }
+
+    /// True when the term's value depends on the engine's input values ([`Term::Linear`]).
+    pub fn depends_on_inputs(&self) -> bool {
+        matches!(self, Term::Linear { .. })
+    }
+
+    /// Membership of `x`. `inputs` are the engine's current input values, used only by
+    /// [`Term::Linear`], whose coefficient past the last input multiplies 1 (the constant).
+    pub fn membership_with(&self, x: f64, inputs: &[f64]) -> f64 {
+        match self {
+            Term::Linear { coefficients } => {
+                // One coefficient per input, plus an optional constant last.
+                let mut sum = 0.0;
+                for (i, c) in coefficients.iter().enumerate() {
+                    sum += c * inputs.get(i).copied().unwrap_or(1.0);
+                }
+                sum
+            }
+            _ => self.membership(x),
+        }
+    }
+
+    /// Membership of `x` for every term that does not depend on inputs; [`Term::Linear`]
+    /// evaluates with all inputs at 0 here (use [`Term::membership_with`]).
+    pub fn membership(&self, x: f64) -> f64 {
+        if x.is_nan() {
+            return f64::NAN;
+        }
+        match *self {
+            Term::Triangle { a, b, c, height } => {
+                if x < a || x > c {
+                    0.0
+                } else if x == b {
+                    height
+                } else if x < b {
+                    if a == f64::NEG_INFINITY { height } else { height * (x - a) / (b - a) }
+                } else if c == f64::INFINITY {
+                    height
+                } else {
+                    height * (c - x) / (c - b)
+                }
+            }
+            Term::Trapezoid { a, b, c, d, height } => {
+                if x < a || x > d {
+                    0.0
+                } else if x < b {
+                    if a == f64::NEG_INFINITY { height } else { height * ((x - a) / (b - a)).min(1.0) }
+                } else if x <= c {
+                    height
+                } else if x < d {
+                    if d == f64::INFINITY { height } else { height * (d - x) / (d - c) }
+                } else if d == f64::INFINITY {
+                    height
+                } else {
+                    0.0
+                }
+            }
+            Term::Rectangle { start, end, height } => {
+                if start <= x && x <= end {
+                    height
+                } else {
+                    0.0
+                }
+            }
+            Term::Ramp { start, end, height } => {
+                if start == end {
+                    0.0
+                } else if start < end {
+                    if x <= start {
+                        0.0
+                    } else if x >= end {
+                        height
+                    } else {
+                        height * (x - start) / (end - start)
+                    }
+                } else if x >= start {
+                    0.0
+                } else if x <= end {
+                    height
+                } else {
+                    height * (start - x) / (start - end)
+                }
+            }
+            Term::Gaussian { mean, sd, height } => {
+                height * (-(x - mean) * (x - mean) / (2.0 * sd * sd)).exp()
+            }
+            Term::GaussianProduct { mean_a, sd_a, mean_b, sd_b, height } => {
+                let a = if x < mean_a { (-(x - mean_a) * (x - mean_a) / (2.0 * sd_a * sd_a)).exp() } else { 1.0 };
+                let b = if x > mean_b { (-(x - mean_b) * (x - mean_b) / (2.0 * sd_b * sd_b)).exp() } else { 1.0 };
+                height * a * b
+            }
+            Term::Bell { center, width, slope, height } => {
+                height / (1.0 + ((x - center) / width).abs().powf(2.0 * slope))
+            }
+            Term::Sigmoid { inflection, slope, height } => height * logistic(x, inflection, slope),
+            Term::SigmoidDifference { left, rising, falling, right, height } => {
+                height * (logistic(x, left, rising) - logistic(x, right, falling)).abs()
+            }
+            Term::SigmoidProduct { left, rising, falling, right, height } => {
+                height * logistic(x, left, rising) * logistic(x, right, falling)
+            }
+            Term::SShape { start, end, height } => height * s_shape(x, start, end),
+            Term::ZShape { start, end, height } => height * z_shape(x, start, end),
+            Term::PiShape { bottom_left, top_left, top_right, bottom_right, height } => {
+                height * s_shape(x, bottom_left, top_left) * z_shape(x, top_right, bottom_right)
+            }
+            Term::Spike { center, width, height } => height * (-(10.0 / width * (x - center)).abs()).exp(),
+            Term::Cosine { center, width, height } => {
+                if x < center - 0.5 * width || x > center + 0.5 * width {
+                    0.0
+                } else {
+                    height * 0.5 * (1.0 + (2.0 / width * PI * (x - center)).cos())
+                }
+            }
+            Term::Concave { inflection, end, height } => {
+                if inflection <= end {
+                    if x < end { height * (end - inflection) / (2.0 * end - inflection - x) } else { height }
+                } else if x > end {
+                    height * (inflection - end) / (inflection - 2.0 * end + x)
+                } else {
+                    height
+                }
+            }
+            Term::Constant { value } => value,
+            Term::Linear { .. } => self.membership_with(x, &[]),
+            Term::Discrete { ref points, height } => height * interpolate(points, x),
+        }
+    }
+
+    /// The crisp value whose membership equals `degree`, for the monotonic terms used by
+    /// Tsukamoto inference (`Ramp`, `Sigmoid`, `SShape`, `ZShape`, `Concave`); `None` for
+    /// terms without a unique inverse.
+    pub fn tsukamoto(&self, degree: f64) -> Option<f64> {
+        let w = degree;
+        Some(match *self {
+            Term::Ramp { start, end, height } => start + (end - start) * (w / height),
+            Term::Sigmoid { inflection, slope, height } => inflection + ((w / height) / (1.0 - w / height)).ln() / slope,
+            Term::SShape { start, end, height } => {
+                let w = w / height;
+                if w <= 0.5 {
+                    start + (end - start) * (w / 2.0).sqrt()
+                } else {
+                    end + (start - end) * ((1.0 - w) / 2.0).sqrt()
+                }
+            }
+            Term::ZShape { start, end, height } => {
+                let w = w / height;
+                if w <= 0.5 {
+                    end + (start - end) * (w / 2.0).sqrt()
+                } else {
+                    start + (end - start) * ((1.0 - w) / 2.0).sqrt()
+                }
+            }
+            Term::Concave { inflection, end, height } => 2.0 * end - inflection + height * (inflection - end) / w,
+            _ => return None,
+        })
+    }
+
+    /// True for the monotonic terms that [`Term::tsukamoto`] can invert.
+    pub fn is_monotonic(&self) -> bool {
+        matches!(
+            self,
+            Term::Ramp { .. } | Term::Sigmoid { .. } | Term::SShape { .. } | Term::ZShape { .. } | Term::Concave { .. }
+        )
+    }
+}
+
+/// Linear interpolation through sorted points, clamped to the end values outside.
+fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+    let (first, last) = match (points.first(), points.last()) {
+        (Some(f), Some(l)) => (*f, *l),
+        _ => return 0.0,
+    };
+    if x <= first.0 {
+        return first.1;
+    }
+    if x >= last.0 {
+        return last.1;
+    }
+    // First point with p.x > x; it exists and is not the first point.
+    let upper = points.partition_point(|p| p.0 <= x);
+    let (x0, y0) = points[upper - 1];
+    let (x1, y1) = points[upper];
+    if x1 == x0 {
+        return y1;
+    }
+    y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(class: &str, p: &[f64]) -> Term {
+        Term::from_parameters(class, p).unwrap()
+    }
+
+    #[test]
+    fn triangle_by_hand() {
+        let tri = t("Triangle", &[0.0, 1.0, 3.0]);
+        assert_eq!(tri.membership(-0.1), 0.0);
+        assert_eq!(tri.membership(0.5), 0.5);
+        assert_eq!(tri.membership(1.0), 1.0);
+        assert_eq!(tri.membership(2.0), 0.5);
+        assert_eq!(tri.membership(3.0), 0.0);
+        assert!(tri.membership(f64::NAN).is_nan());
+        let shoulder = t("Triangle", &[f64::NEG_INFINITY, 0.0, 1.0]);
+        assert_eq!(shoulder.membership(-1e300), 1.0);
+    }
+
+    #[test]
+    fn trapezoid_and_height() {
+        let tr = t("Trapezoid", &[0.0, 1.0, 2.0, 4.0, 0.5]);
+        assert_eq!(tr.membership(0.5), 0.25);
+        assert_eq!(tr.membership(1.5), 0.5);
+        assert_eq!(tr.membership(3.0), 0.25);
+        assert_eq!(tr.membership(4.5), 0.0);
+        assert_eq!(tr.parameters(), vec![0.0, 1.0, 2.0, 4.0, 0.5]);
+    }
+
+    #[test]
+    fn smooth_shapes_by_hand() {
+        let s = t("SShape", &[0.0, 2.0]);
+        assert_eq!(s.membership(0.5), 2.0 * 0.25 * 0.25);
+        assert_eq!(s.membership(1.0), 0.5);
+        assert_eq!(s.membership(1.5), 1.0 - 2.0 * 0.25 * 0.25);
+        let z = t("ZShape", &[0.0, 2.0]);
+        assert!((z.membership(0.5) + s.membership(0.5) - 1.0).abs() < 1e-15);
+        let g = t("Gaussian", &[1.0, 2.0]);
+        assert!((g.membership(3.0) - (-0.5f64).exp()).abs() < 1e-15);
+        let c = t("Cosine", &[0.0, 2.0]);
+        assert!((c.membership(0.5) - 0.5).abs() < 1e-15);
+        assert_eq!(c.membership(1.5), 0.0);
+        let d = t("Discrete", &[0.0, 0.0, 1.0, 1.0, 3.0, 0.0]);
+        assert_eq!(d.membership(2.0), 0.5);
+        assert_eq!(d.membership(-5.0), 0.0);
+        let sp = t("Spike", &[0.0, 10.0]);
+        assert!((sp.membership(1.0) - (-1.0f64).exp()).abs() < 1e-15);
+        let bell = t("Bell", &[0.0, 2.0, 1.0]);
+        assert_eq!(bell.membership(2.0), 0.5);
+        let concave = t("Concave", &[0.5, 1.0]);
+        assert_eq!(concave.membership(0.5), 0.5);
+        assert_eq!(concave.membership(1.2), 1.0);
+    }
+
+    #[test]
+    fn tsukamoto_inverts_monotonic_terms() {
+        for term in [
+            t("Ramp", &[0.0, 2.0]),
+            t("Ramp", &[2.0, 0.0]),
+            t("Sigmoid", &[1.0, 3.0]),
+            t("SShape", &[0.0, 2.0]),
+            t("ZShape", &[0.0, 2.0]),
+            t("Concave", &[0.5, 1.0]),
+            t("Concave", &[1.0, 0.5]),
+        ] {
+            for w in [0.1, 0.3, 0.5, 0.7, 0.9] {
+                let x = term.tsukamoto(w).unwrap();
+                assert!((term.membership(x) - w).abs() < 1e-12, "{term:?} at {w}: x={x}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        assert!(Term::from_parameters("Triangle", &[0.0, 1.0]).is_err());
+        assert!(Term::from_parameters("Triangle", &[0.0, f64::NAN, 1.0]).is_err());
+        assert!(Term::from_parameters("Blob", &[0.0]).is_err());
+        assert!(Term::from_parameters("Discrete", &[1.0, 0.0, 0.0, 1.0]).is_err());
+    }
+}

@@ -1,0 +1,171 @@
+//! Rhai scripting host: the one hardened Rhai engine constructor of the project and the
+//! conversion of script failures into [`SourceError`]s (DESIGN.md §7).
+//!
+//! Scripts only *build* plain Rust data (fuzzy engines here; maps and tasks later) that the
+//! core validates; nothing on a hot path ever calls back into a script.
+//!
+//! Invariant: every script runs under [`Limits`] (operations, call depth, expression depth,
+//! string/array/map sizes), without `eval`, without module import, without a clock, and its
+//! `print`/`debug` output goes to a [`ScriptLog`], never to stdout.
+
+pub mod fuzzy_api;
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use crate::diagnostic::SourceError;
+
+/// Hard limits for one script run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Maximum number of Rhai operations (an endless loop stops here); default 20,000,000.
+    pub max_operations: u64,
+    /// Maximum function call depth; default 32.
+    pub max_call_levels: usize,
+    /// Maximum expression nesting depth (global, in functions); default 64, 32.
+    pub max_expr_depths: (usize, usize),
+    /// Maximum string length in bytes; default 1 MiB.
+    pub max_string_size: usize,
+    /// Maximum array length; default 100,000.
+    pub max_array_size: usize,
+    /// Maximum object map size; default 10,000.
+    pub max_map_size: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_operations: 20_000_000,
+            max_call_levels: 32,
+            max_expr_depths: (64, 32),
+            max_string_size: 1 << 20,
+            max_array_size: 100_000,
+            max_map_size: 10_000,
+        }
+    }
+}
+
+/// Lines a script printed with `print` or `debug`, in order.
+#[derive(Debug, Clone, Default)]
+pub struct ScriptLog(Rc<RefCell<Vec<String>>>);
+
+impl ScriptLog {
+    /// A new, empty log.
+    pub fn new() -> Self {
+        ScriptLog::default()
+    }
+
+    /// Appends a line.
+    pub fn push(&self, line: String) {
+        self.0.borrow_mut().push(line);
+    }
+
+    /// Every line so far.
+    pub fn lines(&self) -> Vec<String> {
+        self.0.borrow().clone()
+    }
+}
+
+/// The project's Rhai engine: limits applied, `eval` disabled, output routed to `log`, and
+/// strider's script API registered.
+pub fn hardened_engine(limits: Limits, log: &ScriptLog) -> rhai::Engine {
+    let mut engine = rhai::Engine::new();
+    engine
+        .set_max_operations(limits.max_operations)
+        .set_max_call_levels(limits.max_call_levels)
+        .set_max_expr_depths(limits.max_expr_depths.0, limits.max_expr_depths.1)
+        .set_max_string_size(limits.max_string_size)
+        .set_max_array_size(limits.max_array_size)
+        .set_max_map_size(limits.max_map_size)
+        .set_max_variables(10_000)
+        .set_max_functions(1_000)
+        .set_strict_variables(true)
+        .disable_symbol("eval");
+    let print_log = log.clone();
+    engine.on_print(move |s| print_log.push(s.to_string()));
+    let debug_log = log.clone();
+    engine.on_debug(move |s, source, pos| {
+        let at = match (source, pos.line()) {
+            (Some(src), Some(l)) => format!("{src}:{l}: "),
+            (None, Some(l)) => format!("line {l}: "),
+            _ => String::new(),
+        };
+        debug_log.push(format!("{at}{s}"));
+    });
+    fuzzy_api::register(&mut engine);
+    engine
+}
+
+/// Converts a Rhai failure into a located error in `file`.
+pub fn script_error(file: &str, err: &rhai::EvalAltResult) -> SourceError {
+    let pos = err.position();
+    // Errors raised inside registered functions carry the call site; unwrap nested calls so
+    // the message says what went wrong rather than which wrapper failed.
+    let mut inner = err;
+    while let rhai::EvalAltResult::ErrorInFunctionCall(_, _, e, _) = inner {
+        inner = e;
+    }
+    let message = match inner {
+        rhai::EvalAltResult::ErrorRuntime(value, _) => value.to_string(),
+        rhai::EvalAltResult::ErrorTooManyOperations(_) => {
+            "script exceeded its operation limit (an endless loop?)".to_string()
+        }
+        other => {
+            // Rhai appends the position to its messages; the position is reported separately.
+            let text = other.to_string();
+            match text.rfind(" (line ") {
+                Some(i) => text[..i].to_string(),
+                None => text,
+            }
+        }
+    };
+    let inner_pos = inner.position();
+    let pos = if inner_pos.is_none() { pos } else { inner_pos };
+    SourceError::new(file, pos.line().unwrap_or(0), pos.position().unwrap_or(0), message)
+}
+
+/// Compiles and runs `source` (named `file` in errors) and returns its final value.
+pub fn run(source: &str, file: &str, limits: Limits, log: &ScriptLog) -> Result<rhai::Dynamic, SourceError> {
+    let engine = hardened_engine(limits, log);
+    let ast = engine.compile(source).map_err(|e| {
+        let pos = e.position();
+        let text = e.0.to_string();
+        SourceError::new(file, pos.line().unwrap_or(0), pos.position().unwrap_or(0), text)
+    })?;
+    engine.eval_ast::<rhai::Dynamic>(&ast).map_err(|e| script_error(file, &e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn endless_loop_is_stopped_with_a_location() {
+        let log = ScriptLog::new();
+        let limits = Limits { max_operations: 100_000, ..Limits::default() };
+        let err = run("let x = 0;\nloop { x += 1; }", "loop.rhai", limits, &log).unwrap_err();
+        assert_eq!(err.file, "loop.rhai");
+        assert_eq!(err.line, 2);
+        assert!(err.message.contains("operation limit"), "{err}");
+    }
+
+    #[test]
+    fn print_goes_to_the_log_and_eval_is_gone() {
+        let log = ScriptLog::new();
+        let value = run("print(\"hello\"); debug(1); 0", "p.rhai", Limits::default(), &log).unwrap();
+        assert_eq!(value.as_int(), Ok(0));
+        assert_eq!(log.lines()[0], "hello");
+        assert_eq!(log.lines().len(), 2);
+        let err = run("eval(\"1\")", "e.rhai", Limits::default(), &log).unwrap_err();
+        assert_eq!(err.line, 1, "{err}");
+    }
+
+    #[test]
+    fn syntax_errors_name_line_and_column() {
+        let log = ScriptLog::new();
+        let err = run("let a = 1;\nlet b = ;", "s.rhai", Limits::default(), &log).unwrap_err();
+        assert_eq!((err.line, err.col), (2, 9), "{err}");
+        let err = run("fn f(n) { f(n + 1) }\nf(0)", "r.rhai", Limits::default(), &log).unwrap_err();
+        assert!(err.line >= 1, "{err}");
+    }
+}
