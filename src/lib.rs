@@ -7,6 +7,7 @@
 pub mod cli;
 pub mod diagnostic;
 pub mod fuzzy;
+pub mod geom;
 pub mod render;
 pub mod rng;
 pub mod script;

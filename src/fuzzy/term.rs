@@ -288,105 +288,96 @@ impl Term {
         if x.is_nan() {
             return f64::NAN;
         }
-        match *self {
+        // Unit shape first, then the height, as `height · shape(x)`.
+        let (shape, height) = match *self {
             Term::Triangle { a, b, c, height } => {
-                if x < a || x > c {
+                let y = if x < a || x > c {
                     0.0
-                } else if x == b {
-                    height
+                } else if x == b || (a == f64::NEG_INFINITY && x < b) || (c == f64::INFINITY && x > b) {
+                    1.0
                 } else if x < b {
-                    if a == f64::NEG_INFINITY { height } else { height * (x - a) / (b - a) }
-                } else if c == f64::INFINITY {
-                    height
+                    (x - a) / (b - a)
                 } else {
-                    height * (c - x) / (c - b)
-                }
+                    (c - x) / (c - b)
+                };
+                (y, height)
             }
             Term::Trapezoid { a, b, c, d, height } => {
-                if x < a || x > d {
+                let y = if x < a || x > d {
                     0.0
+                } else if (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c) {
+                    1.0
                 } else if x < b {
-                    if a == f64::NEG_INFINITY { height } else { height * ((x - a) / (b - a)).min(1.0) }
-                } else if x <= c {
-                    height
-                } else if x < d {
-                    if d == f64::INFINITY { height } else { height * (d - x) / (d - c) }
-                } else if d == f64::INFINITY {
-                    height
+                    (x - a) / (b - a)
                 } else {
-                    0.0
-                }
+                    (d - x) / (d - c)
+                };
+                (y, height)
             }
-            Term::Rectangle { start, end, height } => {
-                if start <= x && x <= end {
-                    height
-                } else {
-                    0.0
-                }
-            }
+            Term::Rectangle { start, end, height } => (if start <= x && x <= end { 1.0 } else { 0.0 }, height),
             Term::Ramp { start, end, height } => {
-                if start == end {
-                    0.0
-                } else if start < end {
+                let y = if start < end {
                     if x <= start {
                         0.0
                     } else if x >= end {
-                        height
+                        1.0
                     } else {
-                        height * (x - start) / (end - start)
+                        (x - start) / (end - start)
                     }
                 } else if x >= start {
                     0.0
                 } else if x <= end {
-                    height
+                    1.0
                 } else {
-                    height * (start - x) / (start - end)
-                }
+                    (start - x) / (start - end)
+                };
+                (y, height)
             }
-            Term::Gaussian { mean, sd, height } => {
-                height * (-(x - mean) * (x - mean) / (2.0 * sd * sd)).exp()
-            }
+            Term::Gaussian { mean, sd, height } => ((-(x - mean) * (x - mean) / (2.0 * (sd * sd))).exp(), height),
             Term::GaussianProduct { mean_a, sd_a, mean_b, sd_b, height } => {
-                let a = if x < mean_a { (-(x - mean_a) * (x - mean_a) / (2.0 * sd_a * sd_a)).exp() } else { 1.0 };
-                let b = if x > mean_b { (-(x - mean_b) * (x - mean_b) / (2.0 * sd_b * sd_b)).exp() } else { 1.0 };
-                height * a * b
+                let a = if x < mean_a { (-(x - mean_a) * (x - mean_a) / (2.0 * (sd_a * sd_a))).exp() } else { 1.0 };
+                let b = if x > mean_b { (-(x - mean_b) * (x - mean_b) / (2.0 * (sd_b * sd_b))).exp() } else { 1.0 };
+                (a * b, height)
             }
             Term::Bell { center, width, slope, height } => {
-                height / (1.0 + ((x - center) / width).abs().powf(2.0 * slope))
+                (1.0 / (1.0 + ((x - center) / width).abs().powf(2.0 * slope)), height)
             }
-            Term::Sigmoid { inflection, slope, height } => height * logistic(x, inflection, slope),
+            Term::Sigmoid { inflection, slope, height } => (logistic(x, inflection, slope), height),
             Term::SigmoidDifference { left, rising, falling, right, height } => {
-                height * (logistic(x, left, rising) - logistic(x, right, falling)).abs()
+                ((logistic(x, left, rising) - logistic(x, right, falling)).abs(), height)
             }
             Term::SigmoidProduct { left, rising, falling, right, height } => {
-                height * logistic(x, left, rising) * logistic(x, right, falling)
+                (logistic(x, left, rising) * logistic(x, right, falling), height)
             }
-            Term::SShape { start, end, height } => height * s_shape(x, start, end),
-            Term::ZShape { start, end, height } => height * z_shape(x, start, end),
+            Term::SShape { start, end, height } => (s_shape(x, start, end), height),
+            Term::ZShape { start, end, height } => (z_shape(x, start, end), height),
             Term::PiShape { bottom_left, top_left, top_right, bottom_right, height } => {
-                height * s_shape(x, bottom_left, top_left) * z_shape(x, top_right, bottom_right)
+                (s_shape(x, bottom_left, top_left) * z_shape(x, top_right, bottom_right), height)
             }
-            Term::Spike { center, width, height } => height * (-(10.0 / width * (x - center)).abs()).exp(),
+            Term::Spike { center, width, height } => ((-(10.0 / width * (x - center)).abs()).exp(), height),
             Term::Cosine { center, width, height } => {
-                if x < center - 0.5 * width || x > center + 0.5 * width {
+                let y = if x < center - 0.5 * width || x > center + 0.5 * width {
                     0.0
                 } else {
-                    height * 0.5 * (1.0 + (2.0 / width * PI * (x - center)).cos())
-                }
+                    0.5 * (1.0 + (2.0 / width * PI * (x - center)).cos())
+                };
+                (y, height)
             }
             Term::Concave { inflection, end, height } => {
-                if inflection <= end {
-                    if x < end { height * (end - inflection) / (2.0 * end - inflection - x) } else { height }
-                } else if x > end {
-                    height * (inflection - end) / (inflection - 2.0 * end + x)
+                let y = if inflection <= end && x < end {
+                    (end - inflection) / (2.0 * end - inflection - x)
+                } else if inflection > end && x > end {
+                    (inflection - end) / (inflection - 2.0 * end + x)
                 } else {
-                    height
-                }
+                    1.0
+                };
+                (y, height)
             }
-            Term::Constant { value } => value,
-            Term::Linear { .. } => self.membership_with(x, &[]),
-            Term::Discrete { ref points, height } => height * interpolate(points, x),
-        }
+            Term::Constant { value } => return value,
+            Term::Linear { .. } => return self.membership_with(x, &[]),
+            Term::Discrete { ref points, height } => (interpolate(points, x), height),
+        };
+        height * shape
     }
 
     /// The crisp value whose membership equals `degree`, for the monotonic terms used by
