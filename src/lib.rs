@@ -4,10 +4,15 @@
 //! Dependencies flow one way: the core ([`fuzzy`]) does no IO and reads no clock; [`script`]
 //! builds core data from Rhai; [`render`] and [`cli`] are front-ends.
 
+// `!(x > 0.0)` is deliberately true for NaN; the code relies on that to reject NaN input.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod cli;
 pub mod diagnostic;
 pub mod fuzzy;
 pub mod geom;
 pub mod render;
 pub mod rng;
+pub mod scenario;
 pub mod script;
+pub mod world;

@@ -30,14 +30,18 @@ mod tests {
 
     #[test]
     fn reproducible_and_distinct() {
-        let a: Vec<f64> = (0..4).map({
-            let mut r = stream(7, 0, 1);
-            move |_| unit(&mut r)
-        }).collect();
-        let b: Vec<f64> = (0..4).map({
-            let mut r = stream(7, 0, 1);
-            move |_| unit(&mut r)
-        }).collect();
+        let a: Vec<f64> = (0..4)
+            .map({
+                let mut r = stream(7, 0, 1);
+                move |_| unit(&mut r)
+            })
+            .collect();
+        let b: Vec<f64> = (0..4)
+            .map({
+                let mut r = stream(7, 0, 1);
+                move |_| unit(&mut r)
+            })
+            .collect();
         let c = unit(&mut stream(7, 0, 2));
         assert_eq!(a, b);
         assert_ne!(a[0], c);

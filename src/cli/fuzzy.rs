@@ -188,8 +188,9 @@ fn input_ranges(engines: &[Engine], net: &Network) -> Vec<(String, f64, f64)> {
         .collect()
 }
 
-/// Reads input rows from CSV text whose header names the network inputs (any order).
-pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<Vec<Vec<f64>>, SourceError> {
+/// Reads input rows from CSV text whose header names the network inputs (any order). Inputs
+/// without a column are NaN in every row; their names are returned with the rows.
+pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<(Vec<Vec<f64>>, Vec<String>), SourceError> {
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let Some((hl, header)) = lines.next() else {
         return Err(SourceError::new(file, 1, 1, "empty file: expected a header naming the input variables"));
@@ -212,9 +213,7 @@ pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<Vec<V
         columns.push(index);
         col += field.chars().count() + 1;
     }
-    if let Some(missing) = (0..names.len()).find(|i| !columns.contains(i)) {
-        return Err(SourceError::new(file, hl + 1, 1, format!("no column for input variable '{}'", names[missing])));
-    }
+    let missing: Vec<String> = (0..names.len()).filter(|i| !columns.contains(i)).map(|i| names[i].clone()).collect();
     let mut rows = Vec::new();
     for (ln, line) in lines {
         let mut row = vec![f64::NAN; names.len()];
@@ -236,7 +235,7 @@ pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<Vec<V
         }
         rows.push(row);
     }
-    Ok(rows)
+    Ok((rows, missing))
 }
 
 /// Formats a value for CSV output: shortest exact decimal, `nan`, `inf`, `-inf`.
@@ -252,7 +251,11 @@ fn eval(path: &Path, inputs: Option<&Path>, only: Option<&str>) -> Outcome {
         Some(csv) => {
             let file = csv.display().to_string();
             let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {file}"))?;
-            read_inputs_csv(&text, &file, &names)?
+            let (rows, missing) = read_inputs_csv(&text, &file, &names)?;
+            for name in missing {
+                eprintln!("warning: {file} has no column for input '{name}'; it is NaN in every row");
+            }
+            rows
         }
         None => grid(&input_ranges(&engines, &net))?,
     };
@@ -308,7 +311,11 @@ fn plot_engines(path: &Path, out: &Path, (w, h): (u32, u32), only: Option<&str>)
     for e in &engines {
         for v in &e.inputs {
             let (lo, hi) = finite_range(v.minimum, v.maximum);
-            let fig = VariableFigure { title: format!("{}: input {}", e.name, v.name), range: (lo, hi), curves: curves(&v.terms, lo, hi) };
+            let fig = VariableFigure {
+                title: format!("{}: input {}", e.name, v.name),
+                range: (lo, hi),
+                curves: curves(&v.terms, lo, hi),
+            };
             save(format!("{}_input_{}.png", e.name, v.name), plot::plot_variable(&fig, w, h))?;
         }
         for v in &e.outputs {
@@ -321,11 +328,13 @@ fn plot_engines(path: &Path, out: &Path, (w, h): (u32, u32), only: Option<&str>)
         }
     }
     // Control surfaces over the first two network inputs (others at mid-range).
-    let ranges: Vec<(String, f64, f64)> =
-        input_ranges(&engines, &net).into_iter().map(|(n, lo, hi)| {
+    let ranges: Vec<(String, f64, f64)> = input_ranges(&engines, &net)
+        .into_iter()
+        .map(|(n, lo, hi)| {
             let (lo, hi) = finite_range(lo, hi);
             (n, lo, hi)
-        }).collect();
+        })
+        .collect();
     let outputs: Vec<String> = net.output_names().map(str::to_string).collect();
     if ranges.len() >= 2 {
         let (nx, ny) = (81, 81);
@@ -359,7 +368,8 @@ fn plot_engines(path: &Path, out: &Path, (w, h): (u32, u32), only: Option<&str>)
     } else if ranges.len() == 1 {
         let (name, lo, hi) = &ranges[0];
         let n = 400;
-        let mut curves: Vec<TermCurve> = outputs.iter().map(|o| TermCurve { name: o.clone(), points: Vec::new() }).collect();
+        let mut curves: Vec<TermCurve> =
+            outputs.iter().map(|o| TermCurve { name: o.clone(), points: Vec::new() }).collect();
         for i in 0..=n {
             let x = lo + (hi - lo) * i as f64 / n as f64;
             net.process(&[x]);
@@ -529,14 +539,18 @@ mod tests {
     #[test]
     fn csv_inputs_are_checked() {
         let names = vec!["a".to_string(), "b".to_string()];
-        let rows = read_inputs_csv("b,a\n1,2\nnan,3\n", "in.csv", &names).unwrap();
+        let (rows, missing) = read_inputs_csv("b,a\n1,2\nnan,3\n", "in.csv", &names).unwrap();
+        assert!(missing.is_empty());
         assert_eq!(rows[0], vec![2.0, 1.0]);
         assert!(rows[1][1].is_nan());
         let err = read_inputs_csv("a,c\n1,2\n", "in.csv", &names).unwrap_err();
         assert_eq!((err.line, err.col), (1, 3));
         let err = read_inputs_csv("a,b\n1,x\n", "in.csv", &names).unwrap_err();
         assert_eq!((err.line, err.col), (2, 3));
-        assert!(read_inputs_csv("a\n1\n", "in.csv", &names).is_err());
+        let (rows, missing) = read_inputs_csv("a\n1\n", "in.csv", &names).unwrap();
+        assert!(rows[0][1].is_nan());
+        assert_eq!(missing, vec!["b".to_string()]);
+        assert!(read_inputs_csv("a\n1,2\n", "in.csv", &names).is_err());
         assert!(read_inputs_csv("", "in.csv", &names).is_err());
     }
 

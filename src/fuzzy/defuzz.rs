@@ -51,7 +51,9 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
             }
             sum_x / count as f64
         }
-        Defuzzifier::SmallestOfMaximum { .. } | Defuzzifier::LargestOfMaximum { .. } | Defuzzifier::MeanOfMaximum { .. } => {
+        Defuzzifier::SmallestOfMaximum { .. }
+        | Defuzzifier::LargestOfMaximum { .. }
+        | Defuzzifier::MeanOfMaximum { .. } => {
             // Candidates: every sample at the (exact) global maximum, which must be positive.
             let mut y_max = f64::NEG_INFINITY;
             for &y in mu {

@@ -507,13 +507,14 @@ impl RuleBlock {
 fn check_name(what: &str, name: &str) -> Result<(), EngineError> {
     let ok = !name.is_empty()
         && name.chars().all(|c| c.is_alphanumeric() || c == '_' || c == '.')
-        && !matches!(name, "if" | "then" | "and" | "or" | "with" | "is" | "any" | "not" | "very" | "somewhat" | "extremely" | "seldom");
+        && !matches!(
+            name,
+            "if" | "then" | "and" | "or" | "with" | "is" | "any" | "not" | "very" | "somewhat" | "extremely" | "seldom"
+        );
     if ok {
         Ok(())
     } else {
-        err(format!(
-            "{what} name '{name}' is not valid: use letters, digits, '_' or '.', and no rule keyword or hedge"
-        ))
+        err(format!("{what} name '{name}' is not valid: use letters, digits, '_' or '.', and no rule keyword or hedge"))
     }
 }
 
@@ -674,17 +675,24 @@ impl Engine {
     }
 
     fn rule_indices_valid(&self, rule: &Rule) -> bool {
-        use super::rule::Antecedent;
+        use super::rule::{Antecedent, VariableRef};
         fn walk(e: &Engine, a: &Antecedent) -> bool {
             match a {
                 Antecedent::Proposition(p) => {
-                    p.variable < e.inputs.len() && p.term.is_none_or(|t| t < e.inputs[p.variable].terms.len())
+                    let terms = match p.variable {
+                        VariableRef::Input(i) => e.inputs.get(i).map(|v| v.terms.len()),
+                        VariableRef::Output(o) => e.outputs.get(o).map(|v| v.terms.len()),
+                    };
+                    terms.is_some_and(|n| p.term.is_none_or(|t| t < n))
                 }
                 Antecedent::And(l, r) | Antecedent::Or(l, r) => walk(e, l) && walk(e, r),
             }
         }
         walk(self, &rule.antecedent)
-            && rule.consequent.iter().all(|c| c.variable < self.outputs.len() && c.term < self.outputs[c.variable].terms.len())
+            && rule
+                .consequent
+                .iter()
+                .all(|c| c.variable < self.outputs.len() && c.term < self.outputs[c.variable].terms.len())
     }
 
     /// Which family the engine belongs to.
@@ -736,15 +744,23 @@ pub(crate) mod tests {
     pub(crate) fn two_by_two() -> Engine {
         let tri = |a, b, c| Term::Triangle { a, b, c, height: 1.0 };
         let mut e = Engine::new("test");
-        e.inputs.push(InputVariable::new("distance", 0.0, 4.0).term("near", tri(0.0, 0.0, 2.0)).term("far", tri(1.0, 4.0, 4.0)));
+        e.inputs.push(
+            InputVariable::new("distance", 0.0, 4.0).term("near", tri(0.0, 0.0, 2.0)).term("far", tri(1.0, 4.0, 4.0)),
+        );
         e.inputs.push(
             InputVariable::new("angle", -90.0, 90.0)
                 .term("left", tri(-90.0, -90.0, 0.0))
                 .term("ahead", tri(-45.0, 0.0, 45.0))
                 .term("right", tri(0.0, 90.0, 90.0)),
         );
-        e.outputs.push(OutputVariable::new("turn", -60.0, 60.0).term("left", tri(-60.0, -60.0, 0.0)).term("right", tri(0.0, 60.0, 60.0)));
-        e.outputs.push(OutputVariable::new("speed", 0.0, 2.0).term("slow", tri(0.0, 0.0, 1.0)).term("fast", tri(0.5, 2.0, 2.0)));
+        e.outputs.push(
+            OutputVariable::new("turn", -60.0, 60.0)
+                .term("left", tri(-60.0, -60.0, 0.0))
+                .term("right", tri(0.0, 60.0, 60.0)),
+        );
+        e.outputs.push(
+            OutputVariable::new("speed", 0.0, 2.0).term("slow", tri(0.0, 0.0, 1.0)).term("fast", tri(0.5, 2.0, 2.0)),
+        );
         e.rule_blocks.push(RuleBlock::mamdani("main"));
         e
     }
@@ -775,7 +791,10 @@ pub(crate) mod tests {
 
     #[test]
     fn activation_parsing() {
-        assert_eq!(Activation::from_parts("First", &["2", "0.1"]).unwrap(), Activation::First { rules: 2, threshold: 0.1 });
+        assert_eq!(
+            Activation::from_parts("First", &["2", "0.1"]).unwrap(),
+            Activation::First { rules: 2, threshold: 0.1 }
+        );
         assert_eq!(
             Activation::from_parts("Threshold", &[">", "0.3"]).unwrap(),
             Activation::Threshold { comparison: Comparison::Greater, value: 0.3 }

@@ -165,8 +165,8 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                         }
                     }
                     "default" => {
-                        v.default_value =
-                            parse_number(value).ok_or_else(|| value_err(format!("expected a number, found '{value}'")))?
+                        v.default_value = parse_number(value)
+                            .ok_or_else(|| value_err(format!("expected a number, found '{value}'")))?
                     }
                     "lock-previous" | "lock-valid" => v.lock_previous = boolean()?,
                     "term" => v.terms.push(term(&words).map_err(value_err)?),
@@ -341,8 +341,11 @@ pub fn export(engine: &Engine) -> String {
         line(&mut s, "disjunction", or_none(b.disjunction.map(SNorm::name)));
         line(&mut s, "implication", or_none(b.implication.map(TNorm::name)));
         let params = b.activation.parameters();
-        let activation =
-            if params.is_empty() { b.activation.name().to_string() } else { format!("{} {params}", b.activation.name()) };
+        let activation = if params.is_empty() {
+            b.activation.name().to_string()
+        } else {
+            format!("{} {params}", b.activation.name())
+        };
         line(&mut s, "activation", &activation);
         for r in &b.rules {
             line(&mut s, "rule", &r.to_text(&engine.inputs, &engine.outputs));

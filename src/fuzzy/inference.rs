@@ -17,14 +17,14 @@
 use super::defuzz::{self, Weighted};
 use super::engine::{Activation, Defuzzifier, Engine, EngineError, OutputVariable};
 use super::norm::{Hedge, SNorm, TNorm};
-use super::rule::Antecedent;
+use super::rule::{Antecedent, VariableRef};
 
 /// Propositions with activation degree at or below this do not fire.
 pub const FIRING_THRESHOLD: f64 = 0.0;
 
 #[derive(Debug, Clone, PartialEq)]
 struct Prop {
-    input: usize,
+    source: VariableRef,
     term: Option<usize>,
     hedges: Vec<Hedge>,
 }
@@ -222,7 +222,7 @@ impl Inference {
         fn emit(a: &Antecedent, props: &mut Vec<Prop>, program: &mut Vec<Op>) {
             match a {
                 Antecedent::Proposition(p) => {
-                    let prop = Prop { input: p.variable, term: p.term, hedges: p.hedges.clone() };
+                    let prop = Prop { source: p.variable, term: p.term, hedges: p.hedges.clone() };
                     let idx = props.iter().position(|q| *q == prop).unwrap_or_else(|| {
                         props.push(prop);
                         props.len() - 1
@@ -252,7 +252,11 @@ impl Inference {
                     conclusions.push(CompiledConclusion { output: c.variable, term: c.term, hedges: c.hedges.clone() });
                 }
                 max_depth = max_depth.max(program.len() - p0);
-                rules.push(CompiledRule { program: p0..program.len(), conclusions: c0..conclusions.len(), weight: rule.weight });
+                rules.push(CompiledRule {
+                    program: p0..program.len(),
+                    conclusions: c0..conclusions.len(),
+                    weight: rule.weight,
+                });
             }
             blocks.push(CompiledBlock {
                 enabled: block.enabled,
@@ -359,73 +363,106 @@ impl Inference {
 
     /// Runs one inference: fuzzify, fire rules, aggregate, defuzzify.
     pub fn process(&mut self) {
-        // Fuzzify: lock-range clamps inputs, then every distinct proposition is evaluated once.
-        let engine = &self.engine;
-        for (i, var) in engine.inputs.iter().enumerate() {
-            if var.lock_range && !self.inputs[i].is_nan() {
-                self.inputs[i] = self.inputs[i].clamp(var.minimum, var.maximum);
+        let Inference {
+            engine,
+            inputs,
+            outputs,
+            previous,
+            props,
+            prop_values,
+            program,
+            rules,
+            conclusions,
+            blocks,
+            degrees,
+            fired,
+            outs,
+            stack,
+            order,
+        } = self;
+        // Fuzzify: lock-range clamps inputs, then every distinct input proposition is evaluated
+        // once. Propositions on outputs are evaluated when a rule reads them.
+        for (x, var) in inputs.iter_mut().zip(&engine.inputs) {
+            if var.lock_range && !x.is_nan() {
+                *x = x.clamp(var.minimum, var.maximum);
             }
         }
-        for (value, prop) in self.prop_values.iter_mut().zip(&self.props) {
-            let var = &engine.inputs[prop.input];
-            *value = if !var.enabled {
-                0.0
-            } else {
-                let base = match prop.term {
-                    Some(t) if prop.hedges.last() != Some(&Hedge::Any) => {
-                        var.terms[t].term.membership_with(self.inputs[prop.input], &self.inputs)
-                    }
-                    _ => f64::NAN,
+        for (value, prop) in prop_values.iter_mut().zip(props.iter()) {
+            if let VariableRef::Input(i) = prop.source {
+                let var = &engine.inputs[i];
+                *value = if !var.enabled {
+                    0.0
+                } else {
+                    let base = match prop.term {
+                        Some(t) if prop.hedges.last() != Some(&Hedge::Any) => {
+                            var.terms[t].term.membership_with(inputs[i], inputs)
+                        }
+                        _ => f64::NAN,
+                    };
+                    apply_hedges(&prop.hedges, base)
                 };
-                apply_hedges(&prop.hedges, base)
-            };
+            }
         }
-        for out in &mut self.outs {
+        for out in outs.iter_mut() {
             out.activated.clear();
         }
-        self.previous.copy_from_slice(&self.outputs);
-        // Rules.
-        for block in &self.blocks {
+        previous.copy_from_slice(outputs);
+        // Rules, block by block. General activation fires rule by rule, so a rule reading an
+        // output sees the rules before it; the other methods select among all degrees first.
+        for block in blocks.iter() {
             let range = block.rules.clone();
             if !block.enabled {
-                self.degrees[range.clone()].fill(0.0);
-                self.fired[range].fill(false);
+                degrees[range.clone()].fill(0.0);
+                fired[range].fill(false);
                 continue;
             }
+            let trigger = |i: usize, degree: f64, outs: &mut Vec<CompiledOutput>| {
+                for c in &conclusions[rules[i].conclusions.clone()] {
+                    let var = &engine.outputs[c.output];
+                    if var.enabled {
+                        let new = (c.term, block.implication, apply_hedges(&c.hedges, degree));
+                        record_activation(&mut outs[c.output].activated, var, new);
+                    }
+                }
+            };
+            let general = block.activation == Activation::General;
             for i in range.clone() {
-                let rule = &self.rules[i];
-                self.stack.clear();
-                for op in &self.program[rule.program.clone()] {
+                let rule = &rules[i];
+                stack.clear();
+                for op in &program[rule.program.clone()] {
                     let v = match *op {
-                        Op::Load(p) => self.prop_values[p as usize],
+                        Op::Load(p) => {
+                            let prop = &props[p as usize];
+                            match prop.source {
+                                VariableRef::Input(_) => prop_values[p as usize],
+                                VariableRef::Output(o) => output_proposition(prop, &engine.outputs[o], &outs[o]),
+                            }
+                        }
                         Op::And => {
-                            let b = self.stack.pop().unwrap_or(f64::NAN);
-                            let a = self.stack.pop().unwrap_or(f64::NAN);
+                            let b = stack.pop().unwrap_or(f64::NAN);
+                            let a = stack.pop().unwrap_or(f64::NAN);
                             combine(a, b, |a, b| block.conjunction.apply(a, b))
                         }
                         Op::Or => {
-                            let b = self.stack.pop().unwrap_or(f64::NAN);
-                            let a = self.stack.pop().unwrap_or(f64::NAN);
+                            let b = stack.pop().unwrap_or(f64::NAN);
+                            let a = stack.pop().unwrap_or(f64::NAN);
                             combine(a, b, |a, b| block.disjunction.apply(a, b))
                         }
                     };
-                    self.stack.push(v);
+                    stack.push(v);
                 }
-                self.degrees[i] = rule.weight * self.stack.pop().unwrap_or(f64::NAN);
-            }
-            select_rules(block.activation, &mut self.degrees[range.clone()], &mut self.fired[range.clone()], &mut self.order);
-            for i in range {
-                if !self.fired[i] {
-                    continue;
-                }
-                let rule = &self.rules[i];
-                for c in &self.conclusions[rule.conclusions.clone()] {
-                    if !engine.outputs[c.output].enabled {
-                        continue;
+                degrees[i] = rule.weight * stack.pop().unwrap_or(f64::NAN);
+                if general {
+                    fired[i] = degrees[i] > FIRING_THRESHOLD;
+                    if fired[i] {
+                        trigger(i, degrees[i], outs);
                     }
-                    let degree = apply_hedges(&c.hedges, self.degrees[i]);
-                    let new = (c.term, block.implication, degree);
-                    record_activation(&mut self.outs[c.output].activated, &engine.outputs[c.output], new);
+                }
+            }
+            if !general {
+                select_rules(block.activation, &mut degrees[range.clone()], &mut fired[range.clone()], order);
+                for i in range.filter(|&i| fired[i]) {
+                    trigger(i, degrees[i], outs);
                 }
             }
         }
@@ -434,28 +471,28 @@ impl Inference {
             if !var.enabled {
                 continue;
             }
-            let out = &mut self.outs[o];
+            let out = &mut outs[o];
             let value = if out.activated.is_empty() {
                 None
             } else {
                 match var.defuzzifier {
                     None => None,
                     Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
-                        let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
-                        let n = out.activated.len();
                         let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
+                        let n = out.activated.len();
+                        let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
                         if n <= list.len() {
                             for (slot, a) in list.iter_mut().zip(&out.activated) {
                                 *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
                             }
-                            Some(defuzz::weighted(kind, &list[..n], &self.inputs, sum_only))
+                            Some(defuzz::weighted(kind, &list[..n], inputs, sum_only))
                         } else {
                             let list: Vec<Weighted> = out
                                 .activated
                                 .iter()
                                 .map(|a| Weighted { term: &var.terms[a.0].term, degree: a.2 })
                                 .collect();
-                            Some(defuzz::weighted(kind, &list, &self.inputs, sum_only))
+                            Some(defuzz::weighted(kind, &list, inputs, sum_only))
                         }
                     }
                     Some(d) => {
@@ -467,9 +504,34 @@ impl Inference {
                     }
                 }
             };
-            self.outputs[o] = finish_output(var, value, self.previous[o]);
+            outputs[o] = finish_output(var, value, previous[o]);
         }
     }
+}
+
+/// Degree of `output is hedges term` from the activations recorded so far: the term's
+/// activations combined with the output's aggregation (a plain sum without one).
+pub(crate) fn output_proposition_degree(
+    hedges: &[Hedge],
+    term: Option<usize>,
+    var: &OutputVariable,
+    activated: &[(usize, TNorm, f64)],
+) -> f64 {
+    if !var.enabled {
+        return 0.0;
+    }
+    let base = match term {
+        Some(t) if hedges.last() != Some(&Hedge::Any) => {
+            let aggregation = var.aggregation.unwrap_or(SNorm::UnboundedSum);
+            activated.iter().filter(|a| a.0 == t).fold(0.0, |acc, a| aggregation.apply(acc, a.2))
+        }
+        _ => f64::NAN,
+    };
+    apply_hedges(hedges, base)
+}
+
+fn output_proposition(prop: &Prop, var: &OutputVariable, out: &CompiledOutput) -> f64 {
+    output_proposition_degree(&prop.hedges, prop.term, var, &out.activated)
 }
 
 fn compile_output(var: &OutputVariable) -> CompiledOutput {
@@ -478,7 +540,9 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
     let mut support = Vec::with_capacity(var.terms.len());
     for t in &var.terms {
         let start = samples.len();
-        samples.extend((0..resolution).map(|i| t.term.membership(defuzz::sample_x(var.minimum, var.maximum, resolution, i))));
+        samples.extend(
+            (0..resolution).map(|i| t.term.membership(defuzz::sample_x(var.minimum, var.maximum, resolution, i))),
+        );
         let row = &samples[start..];
         let lo = row.iter().position(|y| *y != 0.0).unwrap_or(resolution);
         let hi = row.iter().rposition(|y| *y != 0.0).map_or(lo, |i| i + 1);

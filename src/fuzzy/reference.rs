@@ -5,10 +5,12 @@
 //! against (seed 000 §3.1 engines must give the same turn and speed either way).
 
 use super::defuzz::{self, Weighted};
-use super::engine::{Defuzzifier, Engine, EngineError};
-use super::inference::{apply_hedges, combine, finish_output, record_activation, select_rules};
+use super::engine::{Activation, Defuzzifier, Engine, EngineError, RuleBlock};
+use super::inference::{
+    apply_hedges, combine, finish_output, output_proposition_degree, record_activation, select_rules,
+};
 use super::norm::{Hedge, SNorm, TNorm};
-use super::rule::Antecedent;
+use super::rule::{Antecedent, VariableRef};
 
 /// Naive evaluator with its own output history (for lock-previous).
 #[derive(Debug, Clone)]
@@ -39,25 +41,33 @@ impl Reference {
             })
             .collect();
         self.previous.copy_from_slice(&self.outputs);
-        // (output, term, implication, degree) in firing order.
-        let mut activated: Vec<(usize, usize, TNorm, f64)> = Vec::new();
+        // Per output: (term, implication, degree) in firing order.
+        let mut activated: Vec<Vec<(usize, TNorm, f64)>> = vec![Vec::new(); e.outputs.len()];
         for block in e.rule_blocks.iter().filter(|b| b.enabled) {
-            let mut degrees: Vec<f64> = block
-                .rules
-                .iter()
-                .map(|rule| rule.weight * self.antecedent(&rule.antecedent, block.conjunction, block.disjunction, &inputs))
-                .collect();
-            let mut fired = vec![false; degrees.len()];
-            select_rules(block.activation, &mut degrees, &mut fired, &mut Vec::new());
-            for (r, rule) in block.rules.iter().enumerate() {
-                if !fired[r] {
-                    continue;
-                }
-                for c in &rule.consequent {
+            let implication = block.implication.unwrap_or(TNorm::Minimum);
+            let fire = |r: usize, degree: f64, activated: &mut Vec<Vec<(usize, TNorm, f64)>>| {
+                for c in &block.rules[r].consequent {
                     if e.outputs[c.variable].enabled {
-                        let d = apply_hedges(&c.hedges, degrees[r]);
-                        activated.push((c.variable, c.term, block.implication.unwrap_or(TNorm::Minimum), d));
+                        activated[c.variable].push((c.term, implication, apply_hedges(&c.hedges, degree)));
                     }
+                }
+            };
+            let mut degrees = vec![0.0; block.rules.len()];
+            if block.activation == Activation::General {
+                for (r, rule) in block.rules.iter().enumerate() {
+                    let d = rule.weight * self.antecedent(&rule.antecedent, block, &inputs, &activated);
+                    if d > 0.0 {
+                        fire(r, d, &mut activated);
+                    }
+                }
+            } else {
+                for (r, rule) in block.rules.iter().enumerate() {
+                    degrees[r] = rule.weight * self.antecedent(&rule.antecedent, block, &inputs, &activated);
+                }
+                let mut fired = vec![false; degrees.len()];
+                select_rules(block.activation, &mut degrees, &mut fired, &mut Vec::new());
+                for r in (0..degrees.len()).filter(|&r| fired[r]) {
+                    fire(r, degrees[r], &mut activated);
                 }
             }
         }
@@ -67,11 +77,11 @@ impl Reference {
             }
             let mut mine: Vec<(usize, TNorm, f64)> = Vec::new();
             let weighted = var.defuzzifier.is_some_and(|d| d.resolution().is_none());
-            for a in activated.iter().filter(|a| a.0 == o) {
+            for &a in &activated[o] {
                 if weighted {
-                    record_activation(&mut mine, var, (a.1, a.2, a.3));
+                    record_activation(&mut mine, var, a);
                 } else {
-                    mine.push((a.1, a.2, a.3));
+                    mine.push(a);
                 }
             }
             let value = if mine.is_empty() {
@@ -114,28 +124,41 @@ impl Reference {
         &self.outputs
     }
 
-    fn antecedent(&self, a: &Antecedent, conj: Option<TNorm>, disj: Option<SNorm>, inputs: &[f64]) -> f64 {
+    fn antecedent(
+        &self,
+        a: &Antecedent,
+        block: &RuleBlock,
+        inputs: &[f64],
+        activated: &[Vec<(usize, TNorm, f64)>],
+    ) -> f64 {
         match a {
-            Antecedent::Proposition(p) => {
-                let var = &self.engine.inputs[p.variable];
-                if !var.enabled {
-                    return 0.0;
-                }
-                let base = match p.term {
-                    Some(t) if p.hedges.last() != Some(&Hedge::Any) => {
-                        var.terms[t].term.membership_with(inputs[p.variable], inputs)
+            Antecedent::Proposition(p) => match p.variable {
+                VariableRef::Input(i) => {
+                    let var = &self.engine.inputs[i];
+                    if !var.enabled {
+                        return 0.0;
                     }
-                    _ => f64::NAN,
-                };
-                apply_hedges(&p.hedges, base)
-            }
+                    let base = match p.term {
+                        Some(t) if p.hedges.last() != Some(&Hedge::Any) => {
+                            var.terms[t].term.membership_with(inputs[i], inputs)
+                        }
+                        _ => f64::NAN,
+                    };
+                    apply_hedges(&p.hedges, base)
+                }
+                VariableRef::Output(o) => {
+                    output_proposition_degree(&p.hedges, p.term, &self.engine.outputs[o], &activated[o])
+                }
+            },
             Antecedent::And(l, r) => {
-                let (a, b) = (self.antecedent(l, conj, disj, inputs), self.antecedent(r, conj, disj, inputs));
-                combine(a, b, |a, b| conj.unwrap_or(TNorm::Minimum).apply(a, b))
+                let (x, y) =
+                    (self.antecedent(l, block, inputs, activated), self.antecedent(r, block, inputs, activated));
+                combine(x, y, |x, y| block.conjunction.unwrap_or(TNorm::Minimum).apply(x, y))
             }
             Antecedent::Or(l, r) => {
-                let (a, b) = (self.antecedent(l, conj, disj, inputs), self.antecedent(r, conj, disj, inputs));
-                combine(a, b, |a, b| disj.unwrap_or(SNorm::Maximum).apply(a, b))
+                let (x, y) =
+                    (self.antecedent(l, block, inputs, activated), self.antecedent(r, block, inputs, activated));
+                combine(x, y, |x, y| block.disjunction.unwrap_or(SNorm::Maximum).apply(x, y))
             }
         }
     }

@@ -15,7 +15,8 @@
 use super::engine::{InputVariable, OutputVariable};
 use super::norm::Hedge;
 
-/// A condition over input variables.
+/// A condition over input variables (and output variables, whose degree is that of a term in
+/// the output's fuzzy set as built by the rules evaluated before).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Antecedent {
     /// `variable is hedges term`.
@@ -26,11 +27,20 @@ pub enum Antecedent {
     Or(Box<Antecedent>, Box<Antecedent>),
 }
 
-/// `input is hedges term` inside an antecedent.
+/// Which variable a proposition reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VariableRef {
+    /// Input variable by index: the membership of its value.
+    Input(usize),
+    /// Output variable by index: the activation degree of a term in its fuzzy output so far.
+    Output(usize),
+}
+
+/// `variable is hedges term` inside an antecedent.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Proposition {
-    /// Index of the input variable.
-    pub variable: usize,
+    /// The variable read.
+    pub variable: VariableRef,
     /// Hedges in the order written (applied last to first).
     pub hedges: Vec<Hedge>,
     /// Index of the term; `None` for `is any`.
@@ -118,9 +128,10 @@ impl<'a> Parser<'a, '_> {
     }
 
     fn next(&mut self, expected: &str) -> Result<Token<'a>, RuleError> {
-        let token = self
-            .peek()
-            .ok_or_else(|| RuleError { col: self.end_col, message: format!("expected {expected}, found end of rule") })?;
+        let token = self.peek().ok_or_else(|| RuleError {
+            col: self.end_col,
+            message: format!("expected {expected}, found end of rule"),
+        })?;
         self.pos += 1;
         Ok(token)
     }
@@ -155,7 +166,7 @@ impl<'a> Parser<'a, '_> {
     }
 
     fn factor(&mut self) -> Result<Antecedent, RuleError> {
-        let t = self.next("an input variable or '('")?;
+        let t = self.next("a variable or '('")?;
         if t.text == "(" {
             let inner = self.antecedent()?;
             let close = self.next("')'")?;
@@ -164,17 +175,18 @@ impl<'a> Parser<'a, '_> {
             }
             return Ok(inner);
         }
-        let variable = self.inputs.iter().position(|v| v.name == t.text).ok_or_else(|| {
-            let message = if self.outputs.iter().any(|v| v.name == t.text) {
-                format!("'{}' is an output variable; antecedents take input variables", t.text)
+        let (variable, name, terms): (VariableRef, &str, Vec<&str>) =
+            if let Some(i) = self.inputs.iter().position(|v| v.name == t.text) {
+                let v = &self.inputs[i];
+                (VariableRef::Input(i), &v.name, v.terms.iter().map(|t| t.name.as_str()).collect())
+            } else if let Some(o) = self.outputs.iter().position(|v| v.name == t.text) {
+                let v = &self.outputs[o];
+                (VariableRef::Output(o), &v.name, v.terms.iter().map(|t| t.name.as_str()).collect())
             } else {
-                format!("unknown input variable '{}'", t.text)
+                return Err(RuleError { col: t.col, message: format!("unknown variable '{}'", t.text) });
             };
-            RuleError { col: t.col, message }
-        })?;
         self.keyword("is")?;
-        let terms: Vec<&str> = self.inputs[variable].terms.iter().map(|t| t.name.as_str()).collect();
-        let (hedges, term) = self.hedged_term(&self.inputs[variable].name, &terms, true)?;
+        let (hedges, term) = self.hedged_term(name, &terms, true)?;
         Ok(Antecedent::Proposition(Proposition { variable, hedges, term }))
     }
 
@@ -203,7 +215,11 @@ impl<'a> Parser<'a, '_> {
                 None => {
                     return Err(RuleError {
                         col: t.col,
-                        message: format!("unknown term '{}' for variable '{var_name}' (terms: {})", t.text, terms.join(", ")),
+                        message: format!(
+                            "unknown term '{}' for variable '{var_name}' (terms: {})",
+                            t.text,
+                            terms.join(", ")
+                        ),
                     });
                 }
             }
@@ -245,15 +261,23 @@ impl Rule {
                 "and" => consequent.push(p.conclusion()?),
                 "with" => {
                     let w = p.next("a weight")?;
-                    weight = w.text.parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| {
-                        RuleError { col: w.col, message: format!("weight must be a finite number ≥ 0, found '{}'", w.text) }
-                    })?;
+                    weight =
+                        w.text.parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0).ok_or_else(|| RuleError {
+                            col: w.col,
+                            message: format!("weight must be a finite number ≥ 0, found '{}'", w.text),
+                        })?;
                     if let Some(extra) = p.peek() {
-                        return Err(RuleError { col: extra.col, message: format!("unexpected '{}' after the weight", extra.text) });
+                        return Err(RuleError {
+                            col: extra.col,
+                            message: format!("unexpected '{}' after the weight", extra.text),
+                        });
                     }
                 }
                 other => {
-                    return Err(RuleError { col: t.col, message: format!("expected 'and' or 'with', found '{other}'") });
+                    return Err(RuleError {
+                        col: t.col,
+                        message: format!("expected 'and' or 'with', found '{other}'"),
+                    });
                 }
             }
         }
@@ -263,7 +287,7 @@ impl Rule {
     /// Writes the rule back in the grammar above, with parentheses only where needed.
     pub fn to_text(&self, inputs: &[InputVariable], outputs: &[OutputVariable]) -> String {
         let mut s = String::from("if ");
-        write_antecedent(&mut s, &self.antecedent, inputs, false);
+        write_antecedent(&mut s, &self.antecedent, inputs, outputs, false);
         s.push_str(" then ");
         for (i, c) in self.consequent.iter().enumerate() {
             if i > 0 {
@@ -309,11 +333,20 @@ impl Rule {
     }
 }
 
-fn write_antecedent(s: &mut String, a: &Antecedent, inputs: &[InputVariable], inside_and: bool) {
+fn write_antecedent(
+    s: &mut String,
+    a: &Antecedent,
+    inputs: &[InputVariable],
+    outputs: &[OutputVariable],
+    inside_and: bool,
+) {
     match a {
         Antecedent::Proposition(p) => {
-            let var = &inputs[p.variable];
-            s.push_str(&var.name);
+            let (name, terms) = match p.variable {
+                VariableRef::Input(i) => (&inputs[i].name, &inputs[i].terms),
+                VariableRef::Output(o) => (&outputs[o].name, &outputs[o].terms),
+            };
+            s.push_str(name);
             s.push_str(" is");
             for h in &p.hedges {
                 s.push(' ');
@@ -321,18 +354,18 @@ fn write_antecedent(s: &mut String, a: &Antecedent, inputs: &[InputVariable], in
             }
             if let Some(t) = p.term {
                 s.push(' ');
-                s.push_str(&var.terms[t].name);
+                s.push_str(&terms[t].name);
             }
         }
         Antecedent::And(l, r) => {
-            write_antecedent(s, l, inputs, true);
+            write_antecedent(s, l, inputs, outputs, true);
             s.push_str(" and ");
             // Right operand of a left-associative chain needs parentheses if it is itself an And.
             let needs = matches!(**r, Antecedent::And(..));
             if needs {
                 s.push('(');
             }
-            write_antecedent(s, r, inputs, true);
+            write_antecedent(s, r, inputs, outputs, true);
             if needs {
                 s.push(')');
             }
@@ -341,13 +374,13 @@ fn write_antecedent(s: &mut String, a: &Antecedent, inputs: &[InputVariable], in
             if inside_and {
                 s.push('(');
             }
-            write_antecedent(s, l, inputs, false);
+            write_antecedent(s, l, inputs, outputs, false);
             s.push_str(" or ");
             let needs = matches!(**r, Antecedent::Or(..));
             if needs {
                 s.push('(');
             }
-            write_antecedent(s, r, inputs, false);
+            write_antecedent(s, r, inputs, outputs, false);
             if needs {
                 s.push(')');
             }
@@ -411,8 +444,11 @@ mod tests {
         let err = Rule::parse("if distance is nearr then turn is left", &e.inputs, &e.outputs).unwrap_err();
         assert_eq!(err.col, 16);
         assert!(err.message.contains("nearr"));
-        let err = Rule::parse("if speed is slow then turn is left", &e.inputs, &e.outputs).unwrap_err();
+        let err = Rule::parse("if sped is slow then turn is left", &e.inputs, &e.outputs).unwrap_err();
         assert_eq!(err.col, 4);
+        let ok = Rule::parse("if speed is slow then turn is left", &e.inputs, &e.outputs).unwrap();
+        let Antecedent::Proposition(p) = &ok.antecedent else { panic!() };
+        assert_eq!(p.variable, VariableRef::Output(1));
         let err = Rule::parse("if distance is near then", &e.inputs, &e.outputs).unwrap_err();
         assert_eq!(err.col, 25);
         let err = Rule::parse("if (distance is near then turn is left", &e.inputs, &e.outputs).unwrap_err();

@@ -3,7 +3,8 @@
 //!
 //! Every term maps a crisp value `x` to a membership degree. Shapes are scaled by an optional
 //! `height` (default 1), as in FLL where a term's last, optional parameter is its height.
-//! Invariants: a `NaN` input gives a `NaN` membership (the caller decides what that means),
+//! Invariants: a `NaN` input gives a `NaN` membership (the caller decides what that means)
+//! except for the input-independent [`Term::Constant`] and [`Term::Linear`],
 //! every shape except [`Term::Constant`], [`Term::Linear`] and [`Term::Discrete`] stays within
 //! `[0, height]`, and evaluation never panics.
 
@@ -111,18 +112,12 @@ impl Term {
     /// `SShape` and `sshape` are the same) and its FLL parameter list. Shape terms take one
     /// optional trailing parameter, their height.
     pub fn from_parameters(class: &str, p: &[f64]) -> Result<Term, String> {
-        let key: String = class
-            .chars()
-            .filter(|c| *c != '_' && *c != '-')
-            .flat_map(char::to_lowercase)
-            .collect();
+        let key: String = class.chars().filter(|c| *c != '_' && *c != '-').flat_map(char::to_lowercase).collect();
         let fixed = |n: usize| -> Result<f64, String> {
             match p.len() {
                 l if l == n => Ok(1.0),
                 l if l == n + 1 => Ok(p[n]),
-                l => Err(format!(
-                    "term {class} takes {n} parameters (plus an optional height), got {l}"
-                )),
+                l => Err(format!("term {class} takes {n} parameters (plus an optional height), got {l}")),
             }
         };
         if let Some(bad) = p.iter().position(|v| v.is_nan()) {
@@ -182,13 +177,7 @@ impl Term {
             }
             "pishape" => {
                 let height = fixed(4)?;
-                Term::PiShape {
-                    bottom_left: p[0],
-                    top_left: p[1],
-                    top_right: p[2],
-                    bottom_right: p[3],
-                    height,
-                }
+                Term::PiShape { bottom_left: p[0], top_left: p[1], top_right: p[2], bottom_right: p[3], height }
             }
             "spike" => {
                 let height = fixed(2)?;
@@ -211,7 +200,7 @@ impl Term {
                 if p.len() < 2 {
                     return Err(format!("term {class} needs at least one x y pair"));
                 }
-                let (pairs, height) = if p.len() % 2 == 0 { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
+                let (pairs, height) = if p.len().is_multiple_of(2) { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
                 let points: Vec<(f64, f64)> = pairs.chunks_exact(2).map(|c| (c[0], c[1])).collect();
                 if points.windows(2).any(|w| w[1].0 < w[0].0) {
                     return Err(format!("term {class} needs its x values in ascending order"));
@@ -251,9 +240,7 @@ impl Term {
             Term::Concave { inflection, end, height } => (vec![*inflection, *end], *height),
             Term::Constant { value } => (vec![*value], 1.0),
             Term::Linear { coefficients } => (coefficients.clone(), 1.0),
-            Term::Discrete { points, height } => {
-                (points.iter().flat_map(|(x, y)| [*x, *y]).collect(), *height)
-            }
+            Term::Discrete { points, height } => (points.iter().flat_map(|(x, y)| [*x, *y]).collect(), *height),
         };
         if height != 1.0 {
             v.push(height);
@@ -285,8 +272,11 @@ impl Term {
     /// Membership of `x` for every term that does not depend on inputs; [`Term::Linear`]
     /// evaluates with all inputs at 0 here (use [`Term::membership_with`]).
     pub fn membership(&self, x: f64) -> f64 {
-        if x.is_nan() {
-            return f64::NAN;
+        match self {
+            Term::Constant { value } => return *value,
+            Term::Linear { .. } => return self.membership_with(x, &[]),
+            _ if x.is_nan() => return f64::NAN,
+            _ => {}
         }
         // Unit shape first, then the height, as `height · shape(x)`.
         let (shape, height) = match *self {
@@ -373,8 +363,7 @@ impl Term {
                 };
                 (y, height)
             }
-            Term::Constant { value } => return value,
-            Term::Linear { .. } => return self.membership_with(x, &[]),
+            Term::Constant { .. } | Term::Linear { .. } => return f64::NAN,
             Term::Discrete { ref points, height } => (interpolate(points, x), height),
         };
         height * shape
@@ -387,7 +376,9 @@ impl Term {
         let w = degree;
         Some(match *self {
             Term::Ramp { start, end, height } => start + (end - start) * (w / height),
-            Term::Sigmoid { inflection, slope, height } => inflection + ((w / height) / (1.0 - w / height)).ln() / slope,
+            Term::Sigmoid { inflection, slope, height } => {
+                inflection + ((w / height) / (1.0 - w / height)).ln() / slope
+            }
             Term::SShape { start, end, height } => {
                 let w = w / height;
                 if w <= 0.5 {

@@ -22,9 +22,7 @@ const DESCENDERS: &str = "gpqy";
 pub const ADVANCE: u32 = GLYPH_WIDTH + 1;
 
 /// Glyph used for characters that have no entry in [`GLYPHS`].
-const UNKNOWN: [u8; 7] = [
-    0b11111, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b11111,
-];
+const UNKNOWN: [u8; 7] = [0b11111, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b11111];
 
 /// Row masks for ASCII 32 (space) through 126 (`~`), in code-point order.
 #[rustfmt::skip]
@@ -129,11 +127,7 @@ pub const GLYPHS: [[u8; 7]; 95] = [
 /// Returns the row masks for `c`, or a hollow box for unsupported characters.
 pub fn glyph(c: char) -> &'static [u8; 7] {
     let code = c as u32;
-    if (32..=126).contains(&code) {
-        &GLYPHS[(code - 32) as usize]
-    } else {
-        &UNKNOWN
-    }
+    if (32..=126).contains(&code) { &GLYPHS[(code - 32) as usize] } else { &UNKNOWN }
 }
 
 /// Width in pixels of `text` rendered at `scale` (0 is treated as 1).
@@ -143,13 +137,7 @@ pub fn glyph(c: char) -> &'static [u8; 7] {
 pub fn text_width(text: &str, scale: u32) -> u32 {
     let scale = scale.max(1);
     let n = u32::try_from(text.chars().count()).unwrap_or(u32::MAX);
-    if n == 0 {
-        0
-    } else {
-        n.saturating_mul(ADVANCE)
-            .saturating_sub(1)
-            .saturating_mul(scale)
-    }
+    if n == 0 { 0 } else { n.saturating_mul(ADVANCE).saturating_sub(1).saturating_mul(scale) }
 }
 
 /// Height in pixels of one line of text at `scale` (0 is treated as 1),
@@ -174,11 +162,7 @@ pub fn draw_text(pixmap: &mut Pixmap, x: i32, y: i32, text: &str, scale: u32, co
             break;
         }
         let rows = glyph(c);
-        let drop = if DESCENDERS.contains(c) {
-            i64::from(DESCENT) * s
-        } else {
-            0
-        };
+        let drop = if DESCENDERS.contains(c) { i64::from(DESCENT) * s } else { 0 };
         for (r, &mask) in rows.iter().enumerate() {
             for col in 0..GLYPH_WIDTH {
                 if mask & (1 << (GLYPH_WIDTH - 1 - col)) != 0 {
@@ -194,16 +178,7 @@ pub fn draw_text(pixmap: &mut Pixmap, x: i32, y: i32, text: &str, scale: u32, co
 
 /// Blends a solid block into the pixmap, clipped to its bounds.
 #[allow(clippy::too_many_arguments)]
-fn fill_block(
-    pixmap: &mut Pixmap,
-    x: i64,
-    y: i64,
-    bw: i64,
-    bh: i64,
-    src: PremultipliedColorU8,
-    w: i64,
-    h: i64,
-) {
+fn fill_block(pixmap: &mut Pixmap, x: i64, y: i64, bw: i64, bh: i64, src: PremultipliedColorU8, w: i64, h: i64) {
     let x0 = x.max(0);
     let y0 = y.max(0);
     let x1 = (x + bw).min(w);
@@ -276,10 +251,7 @@ mod tests {
         draw_text(&mut pm, -3, -2, "Hi?é", 2, red);
         draw_text(&mut pm, i32::MAX - 1, i32::MIN, "x", u32::MAX, red);
         draw_text(&mut pm, 15, 5, "WWW", 1, red);
-        let hit = pm
-            .pixels()
-            .iter()
-            .any(|p| p.red() == 200 && p.green() == 0 && p.blue() == 0);
+        let hit = pm.pixels().iter().any(|p| p.red() == 200 && p.green() == 0 && p.blue() == 0);
         assert!(hit);
     }
 }

@@ -12,8 +12,7 @@
 
 use super::font::{DESCENT, draw_text, text_height, text_width};
 use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Mask, Paint, PathBuilder, Pixmap, PremultipliedColorU8,
-    Rect, Stroke, Transform,
+    Color, FillRule, LineCap, LineJoin, Mask, Paint, PathBuilder, Pixmap, PremultipliedColorU8, Rect, Stroke, Transform,
 };
 
 /// Smallest image produced; smaller requests are enlarged to this.
@@ -114,27 +113,16 @@ pub fn plot_variable(fig: &VariableFigure, width: u32, height: u32) -> Pixmap {
 
     let title_bottom = draw_title(&mut pm, &fig.title, s);
     let range = sorted_range(fig.range);
-    let xticks = range
-        .map(|(lo, hi)| tick_labels(lo, hi))
-        .unwrap_or_default();
+    let xticks = range.map(|(lo, hi)| tick_labels(lo, hi)).unwrap_or_default();
     let ylabels = [(0.0, "0"), (0.5, "0.5"), (1.0, "1")];
 
-    let last_half = xticks
-        .last()
-        .map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
-    let first_half = xticks
-        .first()
-        .map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
+    let last_half = xticks.last().map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
+    let first_half = xticks.first().map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
     let left = (pad + text_width("0.5", s) as i32 + tick + s as i32).max(first_half + pad);
     let right = w - pad.max(last_half + s as i32);
     let top = title_bottom + pad;
     let bottom = h - (pad / 2 + th + tick + s as i32);
-    let area = PlotArea {
-        left,
-        top,
-        right,
-        bottom,
-    };
+    let area = PlotArea { left, top, right, bottom };
     if !area.usable() {
         draw_fallback_frame(&mut pm, title_bottom, s);
         return pm;
@@ -157,28 +145,14 @@ pub fn plot_variable(fig: &VariableFigure, width: u32, height: u32) -> Pixmap {
         fill_px(&mut pm, px, area.top, 1, area.height(), rgb(GRID));
         fill_px(&mut pm, px, area.bottom, 1, tick, ink);
         let lw = text_width(label, s) as i32;
-        draw_text(
-            &mut pm,
-            px - lw / 2,
-            area.bottom + tick + s as i32,
-            label,
-            s,
-            ink,
-        );
+        draw_text(&mut pm, px - lw / 2, area.bottom + tick + s as i32, label, s, ink);
     }
     for (v, label) in ylabels {
         let py = to_py(v).round() as i32;
         fill_px(&mut pm, area.left, py, area.width(), 1, rgb(GRID));
         fill_px(&mut pm, area.left - tick, py, tick, 1, ink);
         let lw = text_width(label, s) as i32;
-        draw_text(
-            &mut pm,
-            area.left - tick - s as i32 - lw,
-            py - th / 2,
-            label,
-            s,
-            ink,
-        );
+        draw_text(&mut pm, area.left - tick - s as i32 - lw, py - th / 2, label, s, ink);
     }
 
     // Curves, clipped to the plot area.
@@ -209,9 +183,7 @@ pub fn plot_variable(fig: &VariableFigure, width: u32, height: u32) -> Pixmap {
         let lw = text_width(&curve.name, s) as i32;
         let cx = to_px(px).clamp(-1e6, 1e6) as i32;
         let cy = to_py(py).clamp(-1e6, 1e6) as i32;
-        let x = (cx - lw / 2)
-            .min(area.right - 2 - lw)
-            .max(area.left + 2 + s as i32);
+        let x = (cx - lw / 2).min(area.right - 2 - lw).max(area.left + 2 + s as i32);
         let base_y = cy - 2 * s as i32 - 1 - th;
         let lo_y = area.top + s as i32 + 1;
         let hi_y = area.bottom - s as i32 - 1 - th;
@@ -226,14 +198,7 @@ pub fn plot_variable(fig: &VariableFigure, width: u32, height: u32) -> Pixmap {
         }
         placed.push((y, x, lw, th));
         let halo = s as i32;
-        fill_px_blend(
-            &mut pm,
-            x - halo,
-            y - halo,
-            lw + 2 * halo,
-            th + 2 * halo,
-            Color::from_rgba8(255, 255, 255, 200),
-        );
+        fill_px_blend(&mut pm, x - halo, y - halo, lw + 2 * halo, th + 2 * halo, Color::from_rgba8(255, 255, 255, 200));
         draw_text(&mut pm, x, y, &curve.name, s, color);
     }
 
@@ -265,47 +230,28 @@ pub fn plot_surface(fig: &SurfaceFigure, width: u32, height: u32) -> Pixmap {
     let cells = fig.nx.checked_mul(fig.ny).filter(|&n| n > 0);
     let ok = xr.is_some() && yr.is_some() && cells.is_some();
 
-    let xticks = xr
-        .map(|r| tick_labels(r.0.min(r.1), r.0.max(r.1)))
-        .unwrap_or_default();
-    let yticks = yr
-        .map(|r| tick_labels(r.0.min(r.1), r.0.max(r.1)))
-        .unwrap_or_default();
-    let finite = if ok {
-        finite_extent(fig.values.iter().take(cells.unwrap_or(0)))
-    } else {
-        None
-    };
+    let xticks = xr.map(|r| tick_labels(r.0.min(r.1), r.0.max(r.1))).unwrap_or_default();
+    let yticks = yr.map(|r| tick_labels(r.0.min(r.1), r.0.max(r.1))).unwrap_or_default();
+    let finite = if ok { finite_extent(fig.values.iter().take(cells.unwrap_or(0))) } else { None };
     let (zmin_label, zmax_label) = match finite {
         Some((a, b)) if a < b => (format_value(a), format_value(b)),
         Some((a, _)) => (String::new(), format_value(a)),
         None => (String::new(), "NaN".to_string()),
     };
 
-    let ytick_w = yticks
-        .iter()
-        .map(|(_, l)| text_width(l, s) as i32)
-        .max()
-        .unwrap_or(0);
+    let ytick_w = yticks.iter().map(|(_, l)| text_width(l, s) as i32).max().unwrap_or(0);
     let bar_label_w = text_width(&zmin_label, s).max(text_width(&zmax_label, s)) as i32;
     let bar_w = 4 * si + 4;
     let bar_gap = 4 * si + 2;
     let z_name_w = text_width(&fig.z_name, s) as i32;
     let bar_block = (bar_w + si + 2 + bar_label_w).max(z_name_w.min(w / 4));
-    let last_half = xticks
-        .last()
-        .map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
+    let last_half = xticks.last().map_or(0, |(_, l)| text_width(l, s) as i32 / 2);
 
     let left = pad + ytick_w + tick + si;
     let right = w - pad - bar_block - bar_gap.max(last_half);
     let top = title_bottom + pad / 2 + th + descent(s) + th / 2 + 2 * si;
     let bottom = h - (si + descent(s) + 2 * th + tick + 3 * si);
-    let area = PlotArea {
-        left,
-        top,
-        right,
-        bottom,
-    };
+    let area = PlotArea { left, top, right, bottom };
     if !area.usable() {
         draw_fallback_frame(&mut pm, title_bottom, s);
         return pm;
@@ -313,28 +259,12 @@ pub fn plot_surface(fig: &SurfaceFigure, width: u32, height: u32) -> Pixmap {
 
     // Axis names: y above the axis, x centred below the tick labels, z above the bar.
     let name_y = area.top - th / 2 - 2 * si - descent(s) - th;
-    draw_text(
-        &mut pm,
-        (area.left - ytick_w / 2).max(si),
-        name_y,
-        &fig.y_name,
-        s,
-        ink,
-    );
+    draw_text(&mut pm, (area.left - ytick_w / 2).max(si), name_y, &fig.y_name, s, ink);
     let xw = text_width(&fig.x_name, s) as i32;
     let x_name_x = (area.left + area.width() / 2 - xw / 2).max(si);
-    draw_text(
-        &mut pm,
-        x_name_x,
-        h - si - descent(s) - th,
-        &fig.x_name,
-        s,
-        ink,
-    );
+    draw_text(&mut pm, x_name_x, h - si - descent(s) - th, &fig.x_name, s, ink);
     let bar_x = area.right + bar_gap;
-    let z_name_x = (bar_x + bar_w / 2 - z_name_w / 2)
-        .min(w - si - z_name_w)
-        .max(bar_x - bar_gap / 2);
+    let z_name_x = (bar_x + bar_w / 2 - z_name_w / 2).min(w - si - z_name_w).max(bar_x - bar_gap / 2);
     draw_text(&mut pm, z_name_x, name_y, &fig.z_name, s, ink);
 
     let (Some(xr), Some(yr), true) = (xr, yr, ok) else {
@@ -345,9 +275,7 @@ pub fn plot_surface(fig: &SurfaceFigure, width: u32, height: u32) -> Pixmap {
     // Heat map: every pixel takes the colour of its nearest grid sample.
     let (nx, ny) = (fig.nx, fig.ny);
     let (aw, ah) = (area.width() as f64, area.height() as f64);
-    let column: Vec<usize> = (0..area.width())
-        .map(|dx| nearest_index((f64::from(dx) + 0.5) / aw, nx))
-        .collect();
+    let column: Vec<usize> = (0..area.width()).map(|dx| nearest_index((f64::from(dx) + 0.5) / aw, nx)).collect();
     for dy in 0..area.height() {
         let py = area.top + dy;
         if py < 0 || py >= h {
@@ -377,25 +305,13 @@ pub fn plot_surface(fig: &SurfaceFigure, width: u32, height: u32) -> Pixmap {
         let py = area.bottom - ((v - yr.0) / (yr.1 - yr.0) * ah).round() as i32;
         fill_px(&mut pm, area.left - tick, py, tick, 1, ink);
         let lw = text_width(label, s) as i32;
-        draw_text(
-            &mut pm,
-            area.left - tick - si - lw,
-            py - th / 2,
-            label,
-            s,
-            ink,
-        );
+        draw_text(&mut pm, area.left - tick - si - lw, py - th / 2, label, s, ink);
     }
     draw_frame(&mut pm, &area, s);
 
     // Colour bar: top is the maximum; grey when there is no finite value,
     // one flat colour when all finite values are equal.
-    let bar = PlotArea {
-        left: bar_x,
-        top: area.top,
-        right: bar_x + bar_w,
-        bottom: area.bottom,
-    };
+    let bar = PlotArea { left: bar_x, top: area.top, right: bar_x + bar_w, bottom: area.bottom };
     let bh = f64::from(bar.height().max(1));
     for dy in 0..bar.height() {
         let c = match finite {
@@ -444,12 +360,8 @@ impl PlotArea {
 
 /// Outlines the space below the title when no plot area fits.
 fn draw_fallback_frame(pm: &mut Pixmap, title_bottom: i32, s: u32) {
-    let area = PlotArea {
-        left: 2,
-        top: title_bottom + 2,
-        right: pm.width() as i32 - 2,
-        bottom: pm.height() as i32 - 2,
-    };
+    let area =
+        PlotArea { left: 2, top: title_bottom + 2, right: pm.width() as i32 - 2, bottom: pm.height() as i32 - 2 };
     if area.width() > 0 && area.height() > 0 {
         draw_frame(pm, &area, s);
     }
@@ -527,12 +439,7 @@ fn fill_px_blend(pm: &mut Pixmap, x: i32, y: i32, w: i32, h: i32, color: Color) 
 /// Clip mask covering the inside of `area`.
 fn area_mask(pm: &Pixmap, area: &PlotArea) -> Option<Mask> {
     let mut mask = Mask::new(pm.width(), pm.height())?;
-    let rect = Rect::from_ltrb(
-        area.left as f32,
-        area.top as f32,
-        area.right as f32,
-        area.bottom as f32,
-    )?;
+    let rect = Rect::from_ltrb(area.left as f32, area.top as f32, area.right as f32, area.bottom as f32)?;
     let path = PathBuilder::from_rect(rect);
     mask.fill_path(&path, FillRule::Winding, false, Transform::identity());
     Some(mask)
@@ -544,12 +451,7 @@ fn draw_polyline(pm: &mut Pixmap, pts: &[Option<(f32, f32)>], color: Color, mask
     let mut paint = Paint::default();
     paint.set_color(color);
     paint.anti_alias = true;
-    let stroke = Stroke {
-        width: 2.0,
-        line_cap: LineCap::Round,
-        line_join: LineJoin::Round,
-        ..Stroke::default()
-    };
+    let stroke = Stroke { width: 2.0, line_cap: LineCap::Round, line_join: LineJoin::Round, ..Stroke::default() };
     for run in pts.split(Option::is_none) {
         let run: Vec<(f32, f32)> = run.iter().flatten().copied().collect();
         match run.as_slice() {
@@ -575,14 +477,12 @@ fn draw_polyline(pm: &mut Pixmap, pts: &[Option<(f32, f32)>], color: Color, mask
 
 /// First finite point of maximal membership.
 fn peak(points: &[(f64, f64)]) -> Option<(f64, f64)> {
-    points
-        .iter()
-        .copied()
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
-        .fold(None, |best: Option<(f64, f64)>, p| match best {
+    points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()).fold(None, |best: Option<(f64, f64)>, p| {
+        match best {
             Some(b) if b.1 >= p.1 => Some(b),
             _ => Some(p),
-        })
+        }
+    })
 }
 
 fn overlaps(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> bool {
@@ -618,13 +518,10 @@ fn nearest_index(f: f64, n: usize) -> usize {
 
 /// Minimum and maximum of the finite values, if any.
 fn finite_extent<'a>(values: impl Iterator<Item = &'a f64>) -> Option<(f64, f64)> {
-    values
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(None, |acc, v| match acc {
-            None => Some((v, v)),
-            Some((a, b)) => Some((a.min(v), b.max(v))),
-        })
+    values.copied().filter(|v| v.is_finite()).fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((a, b)) => Some((a.min(v), b.max(v))),
+    })
 }
 
 /// Colour of value `z` given the finite extent of all values.
@@ -632,11 +529,7 @@ fn z_colour(z: f64, extent: Option<(f64, f64)>) -> (u8, u8, u8) {
     match extent {
         Some((a, b)) if z.is_finite() => {
             let span = b - a;
-            if span > 0.0 && span.is_finite() {
-                viridis((z - a) / span)
-            } else {
-                viridis(0.5)
-            }
+            if span > 0.0 && span.is_finite() { viridis((z - a) / span) } else { viridis(0.5) }
         }
         _ => NAN_GREY,
     }
@@ -644,11 +537,7 @@ fn z_colour(z: f64, extent: Option<(f64, f64)>) -> (u8, u8, u8) {
 
 /// Viridis colour at `t` in [0, 1] (clamped), linearly interpolated.
 fn viridis(t: f64) -> (u8, u8, u8) {
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
     let pos = t * (VIRIDIS.len() - 1) as f64;
     let k = (pos.floor() as usize).min(VIRIDIS.len() - 2);
     let f = pos - k as f64;
@@ -700,9 +589,7 @@ fn tick_labels(lo: f64, hi: f64) -> Vec<(f64, String)> {
     if !(k0.is_finite() && k1.is_finite()) || k1 < k0 || k1 - k0 > 20.0 {
         return vec![(lo, format_value(lo)), (hi, format_value(hi))];
     }
-    let values: Vec<f64> = (0..=(k1 - k0) as i64)
-        .map(|n| (k0 + n as f64) * step)
-        .collect();
+    let values: Vec<f64> = (0..=(k1 - k0) as i64).map(|n| (k0 + n as f64) * step).collect();
     let max_abs = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let use_exp = max_abs >= 1e5 || step < 1e-3;
     let decimals = step_decimals(step);
@@ -791,10 +678,7 @@ mod tests {
     use super::*;
 
     fn triangle(name: &str, a: f64, b: f64, c: f64) -> TermCurve {
-        TermCurve {
-            name: name.to_string(),
-            points: vec![(a, 0.0), (b, 1.0), (c, 0.0)],
-        }
+        TermCurve { name: name.to_string(), points: vec![(a, 0.0), (b, 1.0), (c, 0.0)] }
     }
 
     fn three_terms() -> VariableFigure {
@@ -824,9 +708,7 @@ mod tests {
     }
 
     fn has_colour(pm: &Pixmap, c: (u8, u8, u8)) -> bool {
-        pm.pixels()
-            .iter()
-            .any(|p| p.alpha() == 255 && (p.red(), p.green(), p.blue()) == c)
+        pm.pixels().iter().any(|p| p.alpha() == 255 && (p.red(), p.green(), p.blue()) == c)
     }
 
     #[test]
@@ -878,36 +760,14 @@ mod tests {
             (-1e12, 1e12),
         ];
         let curves = vec![
-            TermCurve {
-                name: String::new(),
-                points: vec![],
-            },
-            TermCurve {
-                name: "one".into(),
-                points: vec![(0.5, 0.5)],
-            },
-            TermCurve {
-                name: "nan".into(),
-                points: vec![(nan, nan), (0.2, nan), (0.3, 1.0), (inf, 0.0)],
-            },
-            TermCurve {
-                name: "wild".into(),
-                points: vec![(-1e300, 5.0), (1e300, -3.0), (0.5, 1e308)],
-            },
-            TermCurve {
-                name: "ünïcødé\n\t".into(),
-                points: vec![(0.0, 1.0), (1.0, 1.0)],
-            },
+            TermCurve { name: String::new(), points: vec![] },
+            TermCurve { name: "one".into(), points: vec![(0.5, 0.5)] },
+            TermCurve { name: "nan".into(), points: vec![(nan, nan), (0.2, nan), (0.3, 1.0), (inf, 0.0)] },
+            TermCurve { name: "wild".into(), points: vec![(-1e300, 5.0), (1e300, -3.0), (0.5, 1e308)] },
+            TermCurve { name: "ünïcødé\n\t".into(), points: vec![(0.0, 1.0), (1.0, 1.0)] },
         ];
         for range in ranges {
-            for (w, h) in [
-                (0, 0),
-                (1, 1),
-                (64, 48),
-                (100, 1000),
-                (3000, 20),
-                (500, 400),
-            ] {
+            for (w, h) in [(0, 0), (1, 1), (64, 48), (100, 1000), (3000, 20), (500, 400)] {
                 let fig = VariableFigure {
                     title: "a rather long title that will not fit in a tiny image".into(),
                     range,
@@ -917,11 +777,7 @@ mod tests {
                 assert!(pm.width() >= 64 && pm.height() >= 48);
             }
         }
-        let empty = VariableFigure {
-            title: String::new(),
-            range: (0.0, 1.0),
-            curves: vec![],
-        };
+        let empty = VariableFigure { title: String::new(), range: (0.0, 1.0), curves: vec![] };
         let pm = plot_variable(&empty, 0, 0);
         assert_eq!((pm.width(), pm.height()), (64, 48));
         let pm = plot_variable(&empty, u32::MAX, u32::MAX);
@@ -940,19 +796,9 @@ mod tests {
             surface(2, 2, vec![f64::INFINITY, -f64::INFINITY, 1.0, nan]),
             surface(usize::MAX, 2, vec![1.0]),
             surface(2, 2, vec![1e300, -1e300, 0.0, 1.0]),
-            SurfaceFigure {
-                x_range: (nan, 1.0),
-                ..surface(2, 2, vec![0.0; 4])
-            },
-            SurfaceFigure {
-                y_range: (2.0, 2.0),
-                ..surface(2, 2, vec![0.0; 4])
-            },
-            SurfaceFigure {
-                x_range: (1.0, -1.0),
-                y_range: (1e-9, 0.0),
-                ..surface(2, 2, vec![0.0, 1.0, 2.0, 3.0])
-            },
+            SurfaceFigure { x_range: (nan, 1.0), ..surface(2, 2, vec![0.0; 4]) },
+            SurfaceFigure { y_range: (2.0, 2.0), ..surface(2, 2, vec![0.0; 4]) },
+            SurfaceFigure { x_range: (1.0, -1.0), y_range: (1e-9, 0.0), ..surface(2, 2, vec![0.0, 1.0, 2.0, 3.0]) },
         ];
         for fig in &cases {
             for (w, h) in [(0, 0), (64, 48), (90, 60), (400, 300)] {
@@ -966,8 +812,7 @@ mod tests {
 
     #[test]
     fn tick_labels_are_tidy() {
-        let labels =
-            |lo, hi| -> Vec<String> { tick_labels(lo, hi).into_iter().map(|(_, l)| l).collect() };
+        let labels = |lo, hi| -> Vec<String> { tick_labels(lo, hi).into_iter().map(|(_, l)| l).collect() };
         assert_eq!(labels(0.0, 10.0), ["0", "2.5", "5", "7.5", "10"]);
         assert_eq!(labels(-180.0, 180.0), ["-180", "-90", "0", "90", "180"]);
         assert_eq!(labels(0.0, 1.0), ["0", "0.25", "0.5", "0.75", "1"]);

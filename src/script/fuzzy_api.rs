@@ -22,7 +22,9 @@ use rhai::{Array, Dynamic, EvalAltResult, ImmutableString, NativeCallContext};
 
 use crate::diagnostic::SourceError;
 use crate::fuzzy::fll;
-use crate::fuzzy::{Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, SNorm, TNorm, Term};
+use crate::fuzzy::{
+    Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, SNorm, TNorm, Term,
+};
 
 type Shared = Rc<RefCell<Engine>>;
 type Res<T> = Result<T, Box<EvalAltResult>>;
@@ -142,12 +144,18 @@ pub fn register(engine: &mut rhai::Engine) {
         e.0.borrow_mut().description = text.to_string();
         e.clone()
     });
-    engine.register_fn("input", |e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic| -> Res<VariableHandle> {
-        new_variable(e, name, min, max, false)
-    });
-    engine.register_fn("output", |e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic| -> Res<VariableHandle> {
-        new_variable(e, name, min, max, true)
-    });
+    engine.register_fn(
+        "input",
+        |e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic| -> Res<VariableHandle> {
+            new_variable(e, name, min, max, false)
+        },
+    );
+    engine.register_fn(
+        "output",
+        |e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic| -> Res<VariableHandle> {
+            new_variable(e, name, min, max, true)
+        },
+    );
     engine.register_fn("rule_block", |e: &mut EngineHandle, name: &str| -> Res<BlockHandle> {
         let mut engine = e.0.borrow_mut();
         if engine.rule_blocks.iter().any(|b| b.name == name) {
@@ -159,21 +167,24 @@ pub fn register(engine: &mut rhai::Engine) {
     engine.register_fn("to_fll", |e: &mut EngineHandle| fll::export(&e.0.borrow()));
 
     // Variables.
-    engine.register_fn("term", |v: &mut VariableHandle, name: &str, kind: &str, params: Array| -> Res<VariableHandle> {
-        let values = numbers(&params, &format!("parameter of term '{name}'"))?;
-        let term = Term::from_parameters(kind, &values).map_err(|e| format!("term '{name}': {e}"))?;
-        let mut duplicate = false;
-        v.edit(|_, _, _, terms| {
-            duplicate = terms.iter().any(|t| t.name == name);
-            if !duplicate {
-                terms.push(NamedTerm { name: name.to_string(), term });
+    engine.register_fn(
+        "term",
+        |v: &mut VariableHandle, name: &str, kind: &str, params: Array| -> Res<VariableHandle> {
+            let values = numbers(&params, &format!("parameter of term '{name}'"))?;
+            let term = Term::from_parameters(kind, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            let mut duplicate = false;
+            v.edit(|_, _, _, terms| {
+                duplicate = terms.iter().any(|t| t.name == name);
+                if !duplicate {
+                    terms.push(NamedTerm { name: name.to_string(), term });
+                }
+            });
+            if duplicate {
+                return fail(format!("the variable already has a term named '{name}'"));
             }
-        });
-        if duplicate {
-            return fail(format!("the variable already has a term named '{name}'"));
-        }
-        Ok(v.clone())
-    });
+            Ok(v.clone())
+        },
+    );
     engine.register_fn("description", |v: &mut VariableHandle, text: &str| {
         v.edit(|d, _, _, _| *d = text.to_string());
         v.clone()
@@ -240,10 +251,12 @@ pub fn register(engine: &mut rhai::Engine) {
             Ok(())
         })
     });
-    engine.register_fn("enabled", |b: &mut BlockHandle, on: bool| block_edit(b, |r| {
-        r.enabled = on;
-        Ok(())
-    }));
+    engine.register_fn("enabled", |b: &mut BlockHandle, on: bool| {
+        block_edit(b, |r| {
+            r.enabled = on;
+            Ok(())
+        })
+    });
     engine.register_fn("conjunction", |b: &mut BlockHandle, name: &str| {
         block_edit(b, |r| {
             r.conjunction = tnorm(name)?;
@@ -309,7 +322,13 @@ pub fn engines_from(value: rhai::Dynamic) -> Result<Vec<Engine>, String> {
         for (i, item) in items.into_iter().enumerate() {
             match item.clone().try_cast::<EngineHandle>() {
                 Some(e) => out.push(e.0.borrow().clone()),
-                None => return Err(format!("item {} of the returned array is a {}, not a fuzzy engine", i + 1, item.type_name())),
+                None => {
+                    return Err(format!(
+                        "item {} of the returned array is a {}, not a fuzzy engine",
+                        i + 1,
+                        item.type_name()
+                    ));
+                }
             }
         }
         if !out.is_empty() {

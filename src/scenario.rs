@@ -1,0 +1,89 @@
+//! A scenario: a world description plus the navigation tasks to run in it and the agent's
+//! size (seed 000 §4, Fig 2 environments; DESIGN.md §1). Map files of every format (Rhai
+//! maps, the plain text world format, MovingAI grids) become a [`Scenario`], which is
+//! validated before anything runs.
+//!
+//! Invariant: a scenario that passed [`Scenario::validate`] has finite coordinates, at least
+//! one task, and every start and goal lies outside every obstacle grown by the agent radius.
+
+use glam::DVec2;
+
+use crate::geom::Shape;
+use crate::world::{Obstacle, Task, World};
+
+/// Default agent radius, metres.
+pub const DEFAULT_AGENT_RADIUS: f64 = 0.3;
+
+/// A world description with its tasks.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// Name (file stem or generator description).
+    pub name: String,
+    /// The obstacles.
+    pub obstacles: Vec<Obstacle>,
+    /// Navigation tasks; each is one episode.
+    pub tasks: Vec<Task>,
+    /// Radius of the agent's disc, metres.
+    pub agent_radius: f64,
+}
+
+impl Scenario {
+    /// An empty scenario with the default agent radius.
+    pub fn new(name: &str) -> Scenario {
+        Scenario {
+            name: name.to_string(),
+            obstacles: Vec::new(),
+            tasks: Vec::new(),
+            agent_radius: DEFAULT_AGENT_RADIUS,
+        }
+    }
+
+    /// The world the tasks run in.
+    pub fn world(&self) -> World {
+        World::new(self.obstacles.clone())
+    }
+
+    /// Checks the scenario; the message says which task or obstacle is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.agent_radius.is_finite() && self.agent_radius > 0.0) {
+            return Err(format!("agent radius must be a positive number, found {}", self.agent_radius));
+        }
+        if self.tasks.is_empty() {
+            return Err("no task: give a start and a goal".into());
+        }
+        let inside = |p: DVec2| -> Option<usize> {
+            self.obstacles.iter().position(|o| o.parts.iter().any(|s: &Shape| s.distance(p) < self.agent_radius))
+        };
+        for (i, t) in self.tasks.iter().enumerate() {
+            let n = i + 1;
+            if !(t.start.position.is_finite() && t.start.yaw.is_finite() && t.goal.is_finite()) {
+                return Err(format!("task {n}: start or goal is not a finite number"));
+            }
+            if !(t.goal_radius.is_finite() && t.goal_radius > 0.0) {
+                return Err(format!("task {n}: goal radius must be positive, found {}", t.goal_radius));
+            }
+            if !(t.time_limit_s.is_finite() && t.time_limit_s > 0.0) {
+                return Err(format!("task {n}: time limit must be positive, found {}", t.time_limit_s));
+            }
+            if let Some(o) = inside(t.start.position) {
+                return Err(format!(
+                    "task {n}: the start ({}, {}) is inside obstacle {} (grown by the agent radius {} m)",
+                    t.start.position.x,
+                    t.start.position.y,
+                    o + 1,
+                    self.agent_radius
+                ));
+            }
+            if let Some(o) = inside(t.goal) {
+                return Err(format!(
+                    "task {n}: the goal ({}, {}) is inside obstacle {} (grown by the agent radius {} m)",
+                    t.goal.x,
+                    t.goal.y,
+                    o + 1,
+                    self.agent_radius
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,140 @@
+//! The 2D world of seed 000 §3.1 / Fig 2 (DESIGN.md §1): obstacles with convex hulls and
+//! oriented bounding boxes in the XY plane (metres), a vertical extent per obstacle, terrain
+//! height, and the sensing queries the fuzzy planner needs (distances to obstacle hulls in
+//! sectors around the heading, ray casts).
+//!
+//! Obstacles are stored as convex parts (a non-convex outline is split into convex pieces)
+//! in a [`SpatialIndex`], so a query costs what is near the query point, not the whole world.
+//!
+//! Invariants: a [`World`] only holds valid convex parts with finite coordinates; queries never
+//! panic and never depend on hash order; the world does no IO.
+
+pub mod obstacle;
+pub mod sensing;
+pub mod task;
+pub mod terrain;
+
+use glam::DVec2;
+
+use crate::geom::{Aabb, Shape, SpatialIndex};
+pub use obstacle::{Obstacle, ObstacleShape};
+pub use sensing::{SectorLayout, Sensed};
+pub use task::{Pose, Task};
+pub use terrain::Terrain;
+
+/// One convex piece of an obstacle, as indexed for queries.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// Index of the obstacle this piece belongs to.
+    pub obstacle: usize,
+    /// The convex shape.
+    pub shape: Shape,
+}
+
+/// Obstacles, their index and the terrain.
+#[derive(Debug, Clone)]
+pub struct World {
+    obstacles: Vec<Obstacle>,
+    parts: Vec<Part>,
+    index: SpatialIndex,
+    bounds: Option<Aabb>,
+    /// Ground height over the plane.
+    pub terrain: Terrain,
+}
+
+impl World {
+    /// A world holding `obstacles` on flat terrain.
+    pub fn new(obstacles: Vec<Obstacle>) -> World {
+        let mut parts = Vec::new();
+        for (i, o) in obstacles.iter().enumerate() {
+            for shape in &o.parts {
+                parts.push(Part { obstacle: i, shape: shape.clone() });
+            }
+        }
+        let boxes: Vec<Aabb> = parts.iter().map(|p| p.shape.aabb()).collect();
+        let bounds = boxes.iter().copied().reduce(|a, b| a.union(&b));
+        let index = SpatialIndex::build(&boxes);
+        World { obstacles, parts, index, bounds, terrain: Terrain::Flat }
+    }
+
+    /// The obstacles, in the order given.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+
+    /// The convex parts of all obstacles.
+    pub fn parts(&self) -> &[Part] {
+        &self.parts
+    }
+
+    /// Bounding box of every obstacle (`None` for an empty world).
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.bounds
+    }
+
+    /// Indices of the parts whose bounding boxes lie within `radius` of `center`.
+    pub fn parts_near(&self, center: DVec2, radius: f64, out: &mut Vec<usize>) {
+        self.index.query_circle(center, radius, out);
+    }
+
+    /// Distance from `p` to the nearest obstacle surface (0 inside), or `max` when nothing is
+    /// nearer than `max`.
+    pub fn clearance(&self, p: DVec2, max: f64, scratch: &mut Vec<usize>) -> f64 {
+        self.index.query_circle(p, max, scratch);
+        let mut best = max;
+        for &i in scratch.iter() {
+            best = best.min(self.parts[i].shape.distance(p));
+        }
+        best
+    }
+
+    /// Distance along the ray from `origin` in unit direction `dir` to the first obstacle hit,
+    /// up to `max` (`None`: nothing hit).
+    pub fn ray_cast(&self, origin: DVec2, dir: DVec2, max: f64, scratch: &mut Vec<usize>) -> Option<f64> {
+        self.index.query_ray(origin, dir, max, scratch);
+        let mut best: Option<f64> = None;
+        for &i in scratch.iter() {
+            if let Some(t) = self.parts[i].shape.ray_cast(origin, dir, max)
+                && best.is_none_or(|b| t < b)
+            {
+                best = Some(t);
+            }
+        }
+        best
+    }
+
+    /// True when a disc of `radius` at `p` overlaps no obstacle.
+    pub fn is_free(&self, p: DVec2, radius: f64, scratch: &mut Vec<usize>) -> bool {
+        self.clearance(p, radius + 1e-9, scratch) >= radius
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world() -> World {
+        World::new(vec![
+            Obstacle::build(
+                ObstacleShape::Box { center: DVec2::new(5.0, 0.0), width: 2.0, height: 2.0, yaw: 0.0 },
+                0.0,
+                1.0,
+            )
+            .unwrap(),
+            Obstacle::build(ObstacleShape::Cylinder { center: DVec2::new(0.0, 5.0), radius: 1.0 }, 0.0, 1.0).unwrap(),
+        ])
+    }
+
+    #[test]
+    fn clearance_and_rays() {
+        let w = world();
+        let mut s = Vec::new();
+        assert!((w.clearance(DVec2::ZERO, 100.0, &mut s) - 4.0).abs() < 1e-9);
+        assert_eq!(w.clearance(DVec2::new(-50.0, -50.0), 2.0, &mut s), 2.0);
+        let hit = w.ray_cast(DVec2::ZERO, DVec2::X, 100.0, &mut s).unwrap();
+        assert!((hit - 4.0).abs() < 1e-9);
+        assert!(w.ray_cast(DVec2::ZERO, -DVec2::X, 100.0, &mut s).is_none());
+        assert!(w.is_free(DVec2::ZERO, 0.3, &mut s));
+        assert!(!w.is_free(DVec2::new(3.8, 0.0), 0.3, &mut s));
+    }
+}

@@ -1,0 +1,224 @@
+//! Property tests of the fuzzy engine over randomly generated engines: the compiled inference
+//! agrees with the naive reference, outputs stay in range, monotone rule bases give monotone
+//! outputs, and FLL export/import preserves behaviour.
+
+use proptest::prelude::*;
+use rand_chacha::ChaCha8Rng;
+use strider::fuzzy::reference::Reference;
+use strider::fuzzy::{
+    Activation, Defuzzifier, Engine, Hedge, Inference, InputVariable, OutputVariable, RuleBlock, SNorm, TNorm, Term,
+    WeightedKind, fll,
+};
+use strider::rng::{stream, uniform, unit};
+
+fn pick<T: Copy>(rng: &mut ChaCha8Rng, items: &[T]) -> T {
+    items[((unit(rng) * items.len() as f64) as usize).min(items.len() - 1)]
+}
+
+fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
+    let mut xs: Vec<f64> = (0..4).map(|_| uniform(rng, lo, hi)).collect();
+    xs.sort_by(f64::total_cmp);
+    let height = if unit(rng) < 0.2 { uniform(rng, 0.3, 1.0) } else { 1.0 };
+    let span = hi - lo;
+    match (unit(rng) * 6.0) as usize {
+        0 => Term::Triangle { a: xs[0], b: xs[1], c: xs[3], height },
+        1 => Term::Trapezoid { a: xs[0], b: xs[1], c: xs[2], d: xs[3], height },
+        2 => Term::Gaussian { mean: xs[1], sd: uniform(rng, 0.05, 0.4) * span, height },
+        3 => Term::Bell { center: xs[1], width: uniform(rng, 0.05, 0.4) * span, slope: uniform(rng, 0.5, 3.0), height },
+        4 => Term::PiShape { bottom_left: xs[0], top_left: xs[1], top_right: xs[2], bottom_right: xs[3], height },
+        _ => Term::Ramp { start: xs[0], end: xs[3], height },
+    }
+}
+
+/// A random valid Mamdani/Larsen-style engine with integral outputs, or a Takagi-Sugeno one.
+fn random_engine(seed: u64) -> Engine {
+    let rng = &mut stream(seed, 0, 0);
+    let mut e = Engine::new("random");
+    let n_in = 1 + (unit(rng) * 3.0) as usize;
+    for i in 0..n_in {
+        let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
+        for t in 0..2 + (unit(rng) * 3.0) as usize {
+            v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
+        }
+        e.inputs.push(v);
+    }
+    let sugeno = unit(rng) < 0.25;
+    let n_out = 1 + (unit(rng) * 2.0) as usize;
+    for o in 0..n_out {
+        let mut v = OutputVariable::new(&format!("out{o}"), 0.0, 10.0);
+        for t in 0..2 + (unit(rng) * 3.0) as usize {
+            let term = if sugeno {
+                Term::Linear { coefficients: (0..=n_in).map(|_| uniform(rng, -2.0, 2.0)).collect() }
+            } else {
+                random_term(rng, 0.0, 10.0)
+            };
+            v = v.term(&format!("t{t}"), term);
+        }
+        let resolution = 10 + (unit(rng) * 300.0) as usize;
+        v.defuzzifier = Some(if sugeno {
+            pick(
+                rng,
+                &[
+                    Defuzzifier::WeightedAverage { kind: WeightedKind::TakagiSugeno },
+                    Defuzzifier::WeightedSum { kind: WeightedKind::Automatic },
+                ],
+            )
+        } else {
+            pick(
+                rng,
+                &[
+                    Defuzzifier::Centroid { resolution },
+                    Defuzzifier::Bisector { resolution },
+                    Defuzzifier::SmallestOfMaximum { resolution },
+                    Defuzzifier::LargestOfMaximum { resolution },
+                    Defuzzifier::MeanOfMaximum { resolution },
+                ],
+            )
+        });
+        v.aggregation = Some(pick(rng, &SNorm::ALL));
+        v.default_value = if unit(rng) < 0.5 { f64::NAN } else { uniform(rng, 0.0, 10.0) };
+        v.lock_previous = unit(rng) < 0.3;
+        e.outputs.push(v);
+    }
+    let mut block = RuleBlock::mamdani("rules");
+    block.conjunction = Some(pick(rng, &TNorm::ALL));
+    block.disjunction = Some(pick(rng, &SNorm::ALL));
+    block.implication = Some(pick(rng, &TNorm::ALL));
+    block.activation = pick(
+        rng,
+        &[
+            Activation::General,
+            Activation::General,
+            Activation::Highest { rules: 2 },
+            Activation::First { rules: 3, threshold: 0.1 },
+            Activation::Proportional,
+        ],
+    );
+    e.rule_blocks.push(block);
+    let hedges = ["", "", "", "not ", "very ", "somewhat ", "extremely ", "seldom "];
+    for _ in 0..1 + (unit(rng) * 12.0) as usize {
+        let props = 1 + (unit(rng) * 3.0) as usize;
+        let mut text = String::from("if ");
+        for p in 0..props {
+            if p > 0 {
+                text.push_str(pick(rng, &[" and ", " or "]));
+            }
+            let i = (unit(rng) * n_in as f64) as usize;
+            let t = (unit(rng) * e.inputs[i].terms.len() as f64) as usize;
+            text.push_str(&format!("in{i} is {}t{t}", pick(rng, &hedges)));
+        }
+        let o = (unit(rng) * n_out as f64) as usize;
+        let t = (unit(rng) * e.outputs[o].terms.len() as f64) as usize;
+        text.push_str(&format!(" then out{o} is t{t}"));
+        if unit(rng) < 0.3 {
+            text.push_str(&format!(" with {}", uniform(rng, 0.0, 1.0)));
+        }
+        e.add_rule(0, &text).unwrap_or_else(|err| panic!("{text}: {err}"));
+    }
+    e
+}
+
+fn same(a: f64, b: f64, tol: f64) -> bool {
+    (a.is_nan() && b.is_nan()) || a == b || (a - b).abs() <= tol
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn compiled_agrees_with_reference(seed in any::<u64>(), xs in prop::collection::vec(-6.0f64..6.0, 8..24)) {
+        let e = random_engine(seed);
+        let mut fast = Inference::new(&e).unwrap();
+        let mut naive = Reference::new(&e).unwrap();
+        for row in xs.chunks(e.inputs.len()) {
+            let mut input = row.to_vec();
+            input.resize(e.inputs.len(), 0.0);
+            fast.set_inputs(&input);
+            fast.process();
+            let expected = naive.process(&input).to_vec();
+            for (o, (a, b)) in fast.outputs().iter().zip(&expected).enumerate() {
+                prop_assert!(same(*a, *b, 1e-9), "output {o}: {a} vs {b}\n{}", fll::export(&e));
+            }
+        }
+    }
+
+    #[test]
+    fn integral_outputs_stay_in_range(seed in any::<u64>(), xs in prop::collection::vec(-6.0f64..6.0, 3)) {
+        let e = random_engine(seed);
+        let mut inf = Inference::new(&e).unwrap();
+        inf.set_inputs(&xs);
+        inf.process();
+        for (v, var) in inf.outputs().iter().zip(&e.outputs) {
+            if var.defuzzifier.and_then(|d| d.resolution()).is_some() {
+                prop_assert!(v.is_nan() || (var.minimum..=var.maximum).contains(v), "{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn fll_round_trip_keeps_outputs(seed in any::<u64>(), xs in prop::collection::vec(-6.0f64..6.0, 3)) {
+        let e = random_engine(seed);
+        let text = fll::export(&e);
+        let back = fll::import(&text, "round.fll").unwrap();
+        prop_assert_eq!(&fll::export(&back), &text);
+        let (mut a, mut b) = (Inference::new(&e).unwrap(), Inference::new(&back).unwrap());
+        a.set_inputs(&xs);
+        b.set_inputs(&xs);
+        a.process();
+        b.process();
+        for (x, y) in a.outputs().iter().zip(b.outputs()) {
+            prop_assert!(same(*x, *y, 0.0), "{x} vs {y}");
+        }
+    }
+
+    /// Rising inputs map to rising outputs when the rule base is monotone: ordered input
+    /// terms map to ordered output terms.
+    #[test]
+    fn monotone_rule_base_gives_monotone_output(
+        cuts in prop::collection::vec(0.5f64..9.5, 3),
+        x1 in 0.0f64..10.0,
+        x2 in 0.0f64..10.0,
+        product in any::<bool>(),
+    ) {
+        let mut c = cuts.clone();
+        c.sort_by(f64::total_cmp);
+        let mut e = Engine::new("mono");
+        e.inputs.push(
+            InputVariable::new("x", 0.0, 10.0)
+                .term("low", Term::Trapezoid { a: f64::NEG_INFINITY, b: 0.0, c: c[0], d: c[1], height: 1.0 })
+                .term("mid", Term::Triangle { a: c[0], b: c[1], c: c[2], height: 1.0 })
+                .term("high", Term::Trapezoid { a: c[1], b: c[2], c: 10.0, d: f64::INFINITY, height: 1.0 }),
+        );
+        let mut y = OutputVariable::new("y", 0.0, 10.0)
+            .term("low", Term::Triangle { a: 0.0, b: 0.0, c: 5.0, height: 1.0 })
+            .term("mid", Term::Triangle { a: 2.5, b: 5.0, c: 7.5, height: 1.0 })
+            .term("high", Term::Triangle { a: 5.0, b: 10.0, c: 10.0, height: 1.0 });
+        y.defuzzifier = Some(Defuzzifier::Centroid { resolution: 200 });
+        e.outputs.push(y);
+        let mut b = RuleBlock::mamdani("r");
+        if product {
+            b.implication = Some(TNorm::AlgebraicProduct);
+        }
+        e.rule_blocks.push(b);
+        for t in ["low", "mid", "high"] {
+            e.add_rule(0, &format!("if x is {t} then y is {t}")).unwrap();
+        }
+        let (lo, hi) = if x1 <= x2 { (x1, x2) } else { (x2, x1) };
+        let mut inf = Inference::new(&e).unwrap();
+        inf.set_inputs(&[lo]);
+        inf.process();
+        let y_lo = inf.outputs()[0];
+        inf.set_inputs(&[hi]);
+        inf.process();
+        let y_hi = inf.outputs()[0];
+        prop_assert!(y_lo <= y_hi + 1e-9, "y({lo}) = {y_lo} > y({hi}) = {y_hi}");
+    }
+
+    #[test]
+    fn hedges_map_unit_interval_to_itself(x in 0.0f64..=1.0) {
+        for h in Hedge::ALL {
+            let y = h.apply(x);
+            prop_assert!((0.0..=1.0).contains(&y), "{h:?}({x}) = {y}");
+        }
+    }
+}
