@@ -1,6 +1,6 @@
 //! Fuzzy inference throughput (issue bar: ≥ 1,000,000 inferences per second on one core for
 //! the 2-input / 2-output, 15-rule Mamdani engine with centroid at resolution 200, which is
-//! strider's default navigation engine `scripts/nav.rhai`).
+//! strider's default navigation engine `scripts/simple_nav.rhai`).
 
 use divan::{Bencher, black_box};
 use strider::fuzzy::reference::Reference;
@@ -12,8 +12,8 @@ fn main() {
 }
 
 fn nav_engine() -> Engine {
-    let source = include_str!("../scripts/nav.rhai");
-    fuzzy_api::load_engines(source, "scripts/nav.rhai", Limits::default(), &ScriptLog::new())
+    let source = include_str!("../scripts/simple_nav.rhai");
+    fuzzy_api::load_engines(source, "scripts/simple_nav.rhai", Limits::default(), &ScriptLog::new())
         .expect("default navigation script")
         .remove(0)
 }

@@ -4,6 +4,8 @@
 //! error.
 
 pub mod fuzzy;
+pub mod render;
+pub mod run;
 
 use std::io::{self, Write};
 use std::path::PathBuf;
@@ -29,6 +31,12 @@ pub enum Command {
         #[command(subcommand)]
         command: fuzzy::FuzzyCommand,
     },
+    /// Run navigation episodes headless and print their measurements.
+    Run(run::RunArgs),
+    /// Print a seeded random world in the plain text world format.
+    Gen(run::GenArgs),
+    /// Write top-down PNG frames of an episode.
+    Render(render::RenderArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -67,6 +75,9 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         None => fuzzy::default_scenario(),
         Some(Command::Fuzzy { command }) => fuzzy::run(command),
+        Some(Command::Run(args)) => run::run(args),
+        Some(Command::Gen(args)) => run::gen_world(args),
+        Some(Command::Render(args)) => render::render(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,10 +9,14 @@
 
 pub mod cli;
 pub mod diagnostic;
+pub mod experiment;
 pub mod fuzzy;
 pub mod geom;
+pub mod maps;
+pub mod plan;
 pub mod render;
 pub mod rng;
 pub mod scenario;
+pub mod sim;
 pub mod script;
 pub mod world;

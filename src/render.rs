@@ -8,3 +8,6 @@
 
 pub mod font;
 pub mod plot;
+pub mod png;
+pub mod scene;
+pub mod sim_view;

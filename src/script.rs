@@ -9,6 +9,7 @@
 //! `print`/`debug` output goes to a [`ScriptLog`], never to stdout.
 
 pub mod fuzzy_api;
+pub mod map_api;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -93,6 +94,7 @@ pub fn hardened_engine(limits: Limits, log: &ScriptLog) -> rhai::Engine {
         debug_log.push(format!("{at}{s}"));
     });
     fuzzy_api::register(&mut engine);
+    map_api::register(&mut engine);
     engine
 }
 

@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec2;
 use proptest::prelude::*;
-use strider::geom::{Aabb, ConvexPolygon, GeomError, SpatialIndex, decompose, orientation};
+use strider::geom::{Aabb, ConvexPolygon, GeomError, Shape, SpatialIndex, decompose, orientation};
 
 fn point(range: f64) -> impl Strategy<Value = DVec2> {
     (-range..range, -range..range).prop_map(|(x, y)| DVec2::new(x, y))
@@ -21,10 +21,9 @@ fn cloud() -> impl Strategy<Value = Vec<DVec2>> {
 
 /// A polygon from the hull of a random cloud with at least three well-spread points.
 fn polygon() -> impl Strategy<Value = ConvexPolygon> {
-    (prop::collection::vec(point(50.0), 3..20), point(40.0))
-        .prop_filter_map("degenerate hull", |(pts, shift)| {
-            ConvexPolygon::hull(&pts.iter().map(|&p| p + shift).collect::<Vec<_>>()).ok()
-        })
+    (prop::collection::vec(point(50.0), 3..20), point(40.0)).prop_filter_map("degenerate hull", |(pts, shift)| {
+        ConvexPolygon::hull(&pts.iter().map(|&p| p + shift).collect::<Vec<_>>()).ok()
+    })
 }
 
 /// Length scale of a polygon (and an extra point) for tolerances.
@@ -49,17 +48,20 @@ fn is_strictly_convex_ccw(poly: &ConvexPolygon) -> bool {
 
 /// Star-shaped outline around the origin: simple by construction.
 fn star_outline() -> impl Strategy<Value = Vec<DVec2>> {
-    prop::collection::vec((0.0..1.0f64, 0.2..10.0f64), 4..24).prop_filter_map("angles too close or too far apart", |mut spokes| {
-        spokes.sort_by(|a, b| a.0.total_cmp(&b.0));
-        // Distinct angles, each gap below half a turn: the origin then sees every edge, so the
-        // outline is simple.
-        let wrap = spokes[0].0 + 1.0 - spokes[spokes.len() - 1].0;
-        let gaps = spokes.windows(2).map(|w| w[1].0 - w[0].0).chain([wrap]);
-        if gaps.into_iter().any(|g| !(1e-3..0.45).contains(&g)) {
-            return None;
-        }
-        Some(spokes.iter().map(|&(a, r)| DVec2::from_angle(a * TAU) * r).collect())
-    })
+    prop::collection::vec((0.0..1.0f64, 0.2..10.0f64), 4..24).prop_filter_map(
+        "angles too close or too far apart",
+        |mut spokes| {
+            spokes.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // Distinct angles, each gap below half a turn: the origin then sees every edge, so the
+            // outline is simple.
+            let wrap = spokes[0].0 + 1.0 - spokes[spokes.len() - 1].0;
+            let gaps = spokes.windows(2).map(|w| w[1].0 - w[0].0).chain([wrap]);
+            if gaps.into_iter().any(|g| !(1e-3..0.45).contains(&g)) {
+                return None;
+            }
+            Some(spokes.iter().map(|&(a, r)| DVec2::from_angle(a * TAU) * r).collect())
+        },
+    )
 }
 
 /// Histogram outline: columns of integer heights, with collinear vertices along flat tops.
@@ -143,7 +145,7 @@ proptest! {
         let dir = DVec2::from_angle(angle);
         let tol = 1e-9 * scale(&poly, origin);
         match poly.ray_cast(origin, dir, max_dist) {
-            Some(t) if t == 0.0 => prop_assert!(poly.contains(origin)),
+            Some(0.0) => prop_assert!(poly.contains(origin)),
             Some(t) => {
                 prop_assert!(!poly.contains(origin));
                 prop_assert!(t <= max_dist);
@@ -160,6 +162,22 @@ proptest! {
                     prop_assert!(poly.signed_distance(origin + dir * s) > -tol, "missed inside point at {}", s);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn circle_queries_agree(center in point(50.0), radius in 0.0..10.0f64, origin in point(80.0), angle in 0.0..TAU) {
+        let circle = Shape::circle(center, radius).unwrap();
+        let dir = DVec2::from_angle(angle);
+        prop_assert_eq!(circle.distance(origin) == 0.0, circle.contains(origin));
+        prop_assert!(circle.distance(origin) >= 0.0);
+        match circle.ray_cast(origin, dir, 200.0) {
+            Some(0.0) => prop_assert!(circle.contains(origin)),
+            Some(t) => {
+                prop_assert!(circle.signed_distance(origin + dir * t).abs() < 1e-9 * 100.0);
+                prop_assert!(!circle.contains(origin + dir * (t - 1e-7).max(0.0)));
+            }
+            None => prop_assert!(circle.signed_distance(origin + dir * (origin - center).dot(-dir).clamp(0.0, 200.0)) > -1e-9),
         }
     }
 
@@ -196,8 +214,10 @@ proptest! {
     #[test]
     fn circle_query_matches_brute_force(items in boxes(), center in point(70.0), radius in 0.0..20.0f64) {
         let index = SpatialIndex::build(&items);
-        let mut got = Vec::with_capacity(items.len());
+        let mut got = Vec::with_capacity(items.len().max(1));
+        let buffer = got.as_ptr();
         index.query_circle(center, radius, &mut got);
+        prop_assert_eq!(got.as_ptr(), buffer, "query reallocated");
         let want: Vec<usize> = (0..items.len()).filter(|&i| items[i].distance(center) <= radius).collect();
         prop_assert_eq!(got, want);
     }

@@ -206,21 +206,25 @@ impl ConvexPolygon {
 
     /// Distance in metres from `p` to the polygon: 0 inside or on the boundary, Euclidean
     /// distance to the boundary outside. NaN for a NaN point.
+    ///
+    /// `distance(p) == 0.0` exactly when [`ConvexPolygon::contains`] holds: a point outside by
+    /// less than rounding reports the smallest positive `f64` rather than 0.
     pub fn distance(&self, p: DVec2) -> f64 {
         if !p.is_finite() {
             return if p.is_nan() { f64::NAN } else { f64::INFINITY };
         }
-        if self.contains(p) { 0.0 } else { self.nearest_on_boundary(p).1 }
+        if self.contains(p) { 0.0 } else { self.nearest_on_boundary(p).1.max(f64::MIN_POSITIVE) }
     }
 
     /// Signed distance in metres from `p` to the boundary: negative inside, positive outside,
-    /// zero on the boundary. NaN for a NaN point.
+    /// zero on the boundary. NaN for a NaN point. Its sign agrees with [`ConvexPolygon::contains`]
+    /// (non-positive exactly for contained points).
     pub fn signed_distance(&self, p: DVec2) -> f64 {
         if !p.is_finite() {
             return if p.is_nan() { f64::NAN } else { f64::INFINITY };
         }
         let d = self.nearest_on_boundary(p).1;
-        if self.contains(p) { 0.0 - d } else { d }
+        if self.contains(p) { 0.0 - d } else { d.max(f64::MIN_POSITIVE) }
     }
 
     /// Point of the (solid) polygon closest to `p`: `p` itself when inside, otherwise the
@@ -238,7 +242,7 @@ impl ConvexPolygon {
     /// it is within `max_dist` metres.
     ///
     /// `dir` is normalised internally (it should be a unit vector; a zero or non-finite `dir`
-    /// gives `None`). Returns `Some(0.0)` when `origin` is inside the polygon.
+    /// gives `None`). Returns `Some(0.0)` exactly when `origin` is inside the polygon.
     pub fn ray_cast(&self, origin: DVec2, dir: DVec2, max_dist: f64) -> Option<f64> {
         let dir = unit_direction(dir)?;
         if !origin.is_finite() || !(max_dist >= 0.0) {
@@ -267,7 +271,8 @@ impl ConvexPolygon {
                 return None;
             }
         }
-        Some(t_enter)
+        // The origin is outside, so report a positive distance even if rounding produced 0.
+        Some(t_enter.max(f64::MIN_POSITIVE))
     }
 
     /// Axis-aligned bounding box, metres.

@@ -43,7 +43,8 @@ impl Shape {
         }
     }
 
-    /// Distance in metres from `p` to the shape: 0 inside, Euclidean distance outside.
+    /// Distance in metres from `p` to the shape: 0 inside, Euclidean distance outside;
+    /// `distance(p) == 0.0` exactly when [`Shape::contains`] holds.
     pub fn distance(&self, p: DVec2) -> f64 {
         match self {
             Shape::Polygon(poly) => poly.distance(p),
@@ -52,17 +53,27 @@ impl Shape {
                     0.0
                 } else {
                     let d = self.signed_distance(p);
-                    if d.is_nan() { d } else { d.max(0.0) }
+                    if d.is_nan() { d } else { d.max(f64::MIN_POSITIVE) }
                 }
             }
         }
     }
 
-    /// Signed distance in metres to the boundary: negative inside, positive outside.
+    /// Signed distance in metres to the boundary: negative inside, positive outside, with the
+    /// sign agreeing with [`Shape::contains`].
     pub fn signed_distance(&self, p: DVec2) -> f64 {
         match self {
             Shape::Polygon(poly) => poly.signed_distance(p),
-            Shape::Circle { center, radius } => (p - *center).length() - radius,
+            Shape::Circle { center, radius } => {
+                let d = (p - *center).length() - radius;
+                if self.contains(p) {
+                    d.min(0.0)
+                } else if d.is_nan() {
+                    d
+                } else {
+                    d.max(f64::MIN_POSITIVE)
+                }
+            }
         }
     }
 

@@ -1,0 +1,251 @@
+//! `strider run`, `strider gen` and the loading of maps and rule scripts shared by the
+//! navigation commands (seed 000 §3.1 navigation, §4 measurements).
+
+use std::io::{self, BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{Context, anyhow};
+use clap::{Args, ValueEnum};
+
+use super::{Failure, Outcome};
+use crate::experiment::{self, EpisodeRecord, Job};
+use crate::maps::generate::{self, Density};
+use crate::maps::{movingai, text};
+use crate::scenario::Scenario;
+use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use crate::sim::{ControllerParams, LayeredController, StepParameters};
+
+/// The default navigation rules (a layered network), built into the binary.
+pub const DEFAULT_RULES: &str = include_str!("../../scripts/nav.rhai");
+
+/// Where the scenarios of a run come from.
+#[derive(Debug, Clone)]
+pub enum MapSource {
+    /// One scenario (its tasks are the episodes).
+    Scenario(Arc<Scenario>),
+    /// Seeded random worlds of a density, one per episode.
+    Random(Density),
+}
+
+/// Options shared by `run` and `render`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:DENSITY`
+    /// (sparse, semi, cluttered) for seeded random worlds.
+    pub map: String,
+    /// MovingAI scenario file (each line one episode); default: MAP.scen if it exists.
+    #[arg(long)]
+    pub scen: Option<PathBuf>,
+    /// Navigation rules (a `.rhai` script building the layered network); default: built in.
+    #[arg(long)]
+    pub rules: Option<PathBuf>,
+    /// Seed of the run (random worlds and episode seeds).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `strider run` options.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Map, scenario, rules and seed.
+    #[command(flatten)]
+    pub map: MapArgs,
+    /// Number of episodes (default: one per task, or 1 for random worlds).
+    #[arg(long)]
+    pub episodes: Option<usize>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = DataFormat::Json)]
+    pub format: DataFormat,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Data formats of `strider run`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DataFormat {
+    /// `{"summary": …, "episodes": […]}`.
+    Json,
+    /// One header line and one line per episode.
+    Csv,
+}
+
+fn read(path: &Path) -> Result<String, Failure> {
+    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display())).map_err(Failure::Input)
+}
+
+/// Loads a map argument.
+pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
+    if let Some(density) = map.strip_prefix("random:") {
+        let d: Density = density.parse().map_err(|e| anyhow!("{e}"))?;
+        return Ok(MapSource::Random(d));
+    }
+    let path = Path::new(map);
+    let file = path.display().to_string();
+    let scenario = match path.extension().and_then(|e| e.to_str()) {
+        Some("rhai") => {
+            let log = ScriptLog::new();
+            let s = map_api::load_scenario(&read(path)?, &file, Limits::default(), &log);
+            for line in log.lines() {
+                eprintln!("{file}: {line}");
+            }
+            s?
+        }
+        Some("txt") | Some("world") => text::parse(&read(path)?, &file)?,
+        Some("map") => {
+            let scen_path = match scen {
+                Some(p) => p.to_path_buf(),
+                None => PathBuf::from(format!("{map}.scen")),
+            };
+            if !scen_path.exists() {
+                return Err(anyhow!("{file}: a MovingAI map needs its scenario file: give --scen FILE").into());
+            }
+            let scen_file = scen_path.display().to_string();
+            movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)?
+        }
+        _ => {
+            return Err(anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:DENSITY").into());
+        }
+    };
+    Ok(MapSource::Scenario(Arc::new(scenario)))
+}
+
+/// Loads the navigation rules (built-in when `rules` is `None`).
+pub fn load_controller(rules: Option<&Path>) -> Result<LayeredController, Failure> {
+    let (source, file) = match rules {
+        Some(p) => (read(p)?, p.display().to_string()),
+        None => (DEFAULT_RULES.to_string(), "scripts/nav.rhai".to_string()),
+    };
+    let log = ScriptLog::new();
+    let engines = fuzzy_api::load_engines(&source, &file, Limits::default(), &log);
+    for line in log.lines() {
+        eprintln!("{file}: {line}");
+    }
+    LayeredController::new(&engines?, ControllerParams::default()).map_err(|m| anyhow!("{file}: {m}").into())
+}
+
+/// The random-world seed of episode `i` of a run seeded with `seed`.
+pub fn world_seed(seed: u64, i: usize) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i as u64)
+}
+
+/// The jobs of a run: one per episode.
+pub fn jobs(source: &MapSource, episodes: Option<usize>, seed: u64) -> Result<Vec<Job>, Failure> {
+    Ok(match source {
+        MapSource::Scenario(s) => {
+            let n = episodes.unwrap_or(s.tasks.len());
+            (0..n).map(|i| Job { scenario: s.clone(), task: i % s.tasks.len(), seed: world_seed(seed, i) }).collect()
+        }
+        MapSource::Random(d) => {
+            let n = episodes.unwrap_or(1);
+            (0..n)
+                .map(|i| {
+                    let ws = world_seed(seed, i);
+                    Job { scenario: Arc::new(generate::random_world(*d, ws)), task: 0, seed: ws }
+                })
+                .collect()
+        }
+    })
+}
+
+/// `strider run`.
+pub fn run(args: RunArgs) -> Outcome {
+    if args.episodes == Some(0) {
+        return Err(anyhow!("--episodes must be at least 1").into());
+    }
+    let source = load_map(&args.map.map, args.map.scen.as_deref())?;
+    let controller = load_controller(args.map.rules.as_deref())?;
+    let jobs = jobs(&source, args.episodes, args.map.seed)?;
+    let params = StepParameters::default();
+    let bar = if jobs.len() > 1 && io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(jobs.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} episodes, {elapsed} elapsed, eta {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Some(b)
+    } else {
+        None
+    };
+    let progress = || {
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| anyhow!("cannot start worker threads: {e}"))?;
+    let records = pool.install(|| experiment::run_batch(&jobs, &controller, &params, &progress));
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let summary = experiment::summarize(&records);
+    let mut out = BufWriter::new(io::stdout().lock());
+    match args.format {
+        DataFormat::Json => {
+            let doc = serde_json::json!({ "summary": summary, "episodes": records });
+            serde_json::to_writer_pretty(&mut out, &doc).map_err(|e| anyhow!("cannot write JSON: {e}"))?;
+            writeln!(out)?;
+        }
+        DataFormat::Csv => write_csv(&mut out, &records)?,
+    }
+    out.flush()?;
+    let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
+    if failed > 0 {
+        return Err(Failure::Task(anyhow!("{failed} of {} episodes did not reach the goal cleanly", records.len())));
+    }
+    Ok(())
+}
+
+fn opt(x: Option<f64>) -> String {
+    x.map_or_else(String::new, |v| format!("{v}"))
+}
+
+fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> {
+    writeln!(
+        out,
+        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows"
+    )?;
+    for r in records {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.episode,
+            r.scenario,
+            r.task,
+            r.seed,
+            r.reached,
+            r.collisions,
+            r.time_s,
+            r.path_length_m,
+            opt(r.optimal_length_m),
+            opt(r.path_ratio),
+            r.min_clearance_m,
+            r.stalls,
+            r.boundary_follows
+        )?;
+    }
+    Ok(())
+}
+
+/// `strider gen` options.
+#[derive(Debug, Args)]
+pub struct GenArgs {
+    /// Obstacle density: sparse, semi or cluttered.
+    #[arg(long)]
+    pub density: String,
+    /// Seed of the world.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `strider gen`: prints a seeded random world in the plain text format.
+pub fn gen_world(args: GenArgs) -> Outcome {
+    let d: Density = args.density.parse().map_err(|e| anyhow!("{e}"))?;
+    let scenario = generate::random_world(d, args.seed);
+    let mut out = io::stdout().lock();
+    out.write_all(text::write(&scenario).as_bytes())?;
+    Ok(())
+}

@@ -1,0 +1,168 @@
+//! Episodes and batches: run navigation tasks to completion and measure them the way seed 000
+//! §4 compares planners (success, time, path length against the optimal path, clearance,
+//! collisions), in parallel across episodes without giving up determinism.
+//!
+//! Invariant: a batch's records come back in episode order and each episode depends only on
+//! its scenario, rules and seed, so results are identical whatever the thread count.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::plan;
+use crate::scenario::Scenario;
+use crate::sim::{LayeredController, Outcome, Simulation, StepParameters};
+use crate::world::{Task, World};
+
+/// The measurements of one episode.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EpisodeRecord {
+    /// Episode number within the batch.
+    pub episode: usize,
+    /// Scenario name.
+    pub scenario: String,
+    /// Task index within the scenario.
+    pub task: usize,
+    /// Seed of the episode.
+    pub seed: u64,
+    /// Goal reached within the time limit.
+    pub reached: bool,
+    /// Steps that ended overlapping an obstacle or agent.
+    pub collisions: u32,
+    /// Simulated time until the goal or the time limit, seconds.
+    pub time_s: f64,
+    /// Distance travelled, metres.
+    pub path_length_m: f64,
+    /// Shortest collision-free path for the agent's disc, metres (`None`: no path exists).
+    pub optimal_length_m: Option<f64>,
+    /// `path_length_m / optimal_length_m` for reached episodes.
+    pub path_ratio: Option<f64>,
+    /// Smallest gap between the agent and any obstacle, metres.
+    pub min_clearance_m: f64,
+    /// Steps the body refused or shortened because it would have hit something.
+    pub stalls: u32,
+    /// Times boundary following started.
+    pub boundary_follows: u32,
+}
+
+/// Aggregate figures of a batch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Number of episodes.
+    pub episodes: usize,
+    /// Episodes that reached the goal.
+    pub reached: usize,
+    /// `reached / episodes`.
+    pub success_rate: f64,
+    /// Median path ratio of reached episodes with a known optimum.
+    pub median_path_ratio: Option<f64>,
+    /// 90th percentile path ratio, same episodes.
+    pub p90_path_ratio: Option<f64>,
+    /// Total collisions over all episodes.
+    pub collisions: u64,
+    /// Smallest clearance over all episodes, metres.
+    pub min_clearance_m: f64,
+}
+
+/// A finished episode with its trail (for pictures).
+#[derive(Debug, Clone)]
+pub struct Episode {
+    /// The measurements.
+    pub record: EpisodeRecord,
+    /// Agent positions after every step.
+    pub trail: Vec<glam::DVec2>,
+}
+
+/// Runs one task to completion.
+pub fn run_episode(
+    world: &World,
+    scenario_name: &str,
+    task_index: usize,
+    task: Task,
+    controller: &LayeredController,
+    params: &StepParameters,
+    episode: usize,
+    seed: u64,
+) -> Episode {
+    let optimal = plan::shortest_path(world, task.start.position, task.goal, params.limits.radius).map(|p| p.length);
+    let mut sim = Simulation::new(world.clone(), params.clone());
+    sim.add_agent(task, controller);
+    while !sim.all_done() {
+        sim.step();
+    }
+    let agent = &sim.agents[0];
+    let m = agent.metrics;
+    let reached = agent.outcome == Some(Outcome::Reached);
+    let record = EpisodeRecord {
+        episode,
+        scenario: scenario_name.to_string(),
+        task: task_index,
+        seed,
+        reached,
+        collisions: m.collisions,
+        time_s: m.time_s,
+        path_length_m: m.path_length_m,
+        optimal_length_m: optimal,
+        path_ratio: optimal.filter(|o| reached && *o > 0.0).map(|o| m.path_length_m / o),
+        min_clearance_m: m.min_clearance_m,
+        stalls: m.blocked_steps,
+        boundary_follows: m.follows,
+    };
+    Episode { record, trail: agent.trail.clone() }
+}
+
+/// One unit of a batch: a scenario, which of its tasks, and the episode seed.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// The scenario (shared worlds are cheap to clone per job).
+    pub scenario: std::sync::Arc<Scenario>,
+    /// Task index.
+    pub task: usize,
+    /// Episode seed.
+    pub seed: u64,
+}
+
+/// Runs `jobs` in parallel (one episode each) and returns records in job order.
+/// `progress` is called once per finished episode, from worker threads.
+pub fn run_batch(
+    jobs: &[Job],
+    controller: &LayeredController,
+    params: &StepParameters,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<EpisodeRecord> {
+    jobs.par_iter()
+        .enumerate()
+        .map(|(i, job)| {
+            let world = job.scenario.world();
+            let mut p = params.clone();
+            p.limits.radius = job.scenario.agent_radius;
+            let task = job.scenario.tasks[job.task];
+            let e = run_episode(&world, &job.scenario.name, job.task, task, controller, &p, i, job.seed);
+            progress();
+            e.record
+        })
+        .collect()
+}
+
+/// Aggregates records.
+pub fn summarize(records: &[EpisodeRecord]) -> Summary {
+    let reached = records.iter().filter(|r| r.reached).count();
+    let mut ratios: Vec<f64> = records.iter().filter_map(|r| r.path_ratio).collect();
+    ratios.sort_by(f64::total_cmp);
+    let quantile = |q: f64| -> Option<f64> {
+        if ratios.is_empty() {
+            None
+        } else {
+            let i = ((ratios.len() - 1) as f64 * q).round() as usize;
+            Some(ratios[i])
+        }
+    };
+    Summary {
+        episodes: records.len(),
+        reached,
+        success_rate: if records.is_empty() { 0.0 } else { reached as f64 / records.len() as f64 },
+        median_path_ratio: quantile(0.5),
+        p90_path_ratio: quantile(0.9),
+        collisions: records.iter().map(|r| u64::from(r.collisions)).sum(),
+        min_clearance_m: records.iter().map(|r| r.min_clearance_m).fold(f64::INFINITY, f64::min),
+    }
+}

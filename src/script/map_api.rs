@@ -1,0 +1,175 @@
+//! The Rhai API for worlds and tasks (seed 000 Fig 2 environments as scripts; DESIGN.md §1).
+//!
+//! ```rhai
+//! let m = world("corridor");
+//! m.agent_radius(0.3);
+//! m.start(0.0, 0.0, 0.0);          // x, y (m), heading (deg)
+//! m.goal(10.0, 0.0, 0.5);          // x, y, radius (m)
+//! m.box(5.0, 1.0, 4.0, 0.2, 0.0);  // centre x, y, width, height (m), yaw (deg)
+//! m.cylinder(3.0, -1.0, 0.4);      // centre x, y, radius (m)
+//! m.convex([[0, 2], [1, 3], [2, 2]]);
+//! m.polygon([[6, -2], [9, -2], [9, 2], [8, 2], [8, -1], [6, -1]]);
+//! m.heights(0.0, 0.8);             // vertical extent of the obstacles added after this
+//! m
+//! ```
+//! Each `start` opens a task; the next `goal` closes it. Angles are degrees. The script ends
+//! with the world; the core validates it.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use glam::DVec2;
+use rhai::{Array, Dynamic, EvalAltResult};
+
+use crate::diagnostic::SourceError;
+use crate::scenario::Scenario;
+use crate::world::obstacle::DEFAULT_Z;
+use crate::world::{Obstacle, ObstacleShape, Pose, Task};
+
+type Res<T> = Result<T, Box<EvalAltResult>>;
+
+#[derive(Debug, Default)]
+struct MapState {
+    scenario: Option<Scenario>,
+    pending_start: Option<Pose>,
+    z: Option<(f64, f64)>,
+    time_limit_s: Option<f64>,
+}
+
+/// A world under construction in a script.
+#[derive(Debug, Clone)]
+pub struct MapHandle(Rc<RefCell<MapState>>);
+
+fn num(v: &Dynamic, what: &str) -> Res<f64> {
+    let x = if let Ok(f) = v.as_float() {
+        f
+    } else if let Ok(i) = v.as_int() {
+        i as f64
+    } else {
+        return Err(format!("{what} must be a number, found {}", v.type_name()).into());
+    };
+    if x.is_finite() { Ok(x) } else { Err(format!("{what} must be finite, found {x}").into()) }
+}
+
+fn points(list: &Array, what: &str) -> Res<Vec<DVec2>> {
+    list.iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let pair = p.clone().try_cast::<Array>().filter(|a| a.len() == 2).ok_or_else(|| -> Box<EvalAltResult> {
+                format!("{what}: point {} must be [x, y]", i + 1).into()
+            })?;
+            Ok(DVec2::new(num(&pair[0], "x")?, num(&pair[1], "y")?))
+        })
+        .collect()
+}
+
+impl MapHandle {
+    fn add(&self, shape: ObstacleShape) -> Res<MapHandle> {
+        let mut st = self.0.borrow_mut();
+        let (z0, z1) = st.z.unwrap_or(DEFAULT_Z);
+        let o = Obstacle::build(shape, z0, z1).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        if let Some(s) = st.scenario.as_mut() {
+            s.obstacles.push(o);
+        }
+        Ok(self.clone())
+    }
+}
+
+/// Registers the world-building API on `engine`.
+pub fn register(engine: &mut rhai::Engine) {
+    engine.register_type_with_name::<MapHandle>("World");
+    engine.register_fn("world", |name: &str| {
+        MapHandle(Rc::new(RefCell::new(MapState { scenario: Some(Scenario::new(name)), ..MapState::default() })))
+    });
+    engine.register_fn("agent_radius", |m: &mut MapHandle, r: Dynamic| -> Res<MapHandle> {
+        let r = num(&r, "agent radius")?;
+        if r <= 0.0 {
+            return Err(format!("agent radius must be positive, found {r}").into());
+        }
+        if let Some(s) = m.0.borrow_mut().scenario.as_mut() {
+            s.agent_radius = r;
+        }
+        Ok(m.clone())
+    });
+    engine.register_fn("time_limit", |m: &mut MapHandle, t: Dynamic| -> Res<MapHandle> {
+        let t = num(&t, "time limit")?;
+        if t <= 0.0 {
+            return Err(format!("time limit must be positive, found {t}").into());
+        }
+        m.0.borrow_mut().time_limit_s = Some(t);
+        Ok(m.clone())
+    });
+    engine.register_fn("heights", |m: &mut MapHandle, z0: Dynamic, z1: Dynamic| -> Res<MapHandle> {
+        let (z0, z1) = (num(&z0, "z_min")?, num(&z1, "z_max")?);
+        if z0 >= z1 {
+            return Err(format!("heights need z_min < z_max, found {z0} and {z1}").into());
+        }
+        m.0.borrow_mut().z = Some((z0, z1));
+        Ok(m.clone())
+    });
+    engine.register_fn("start", |m: &mut MapHandle, x: Dynamic, y: Dynamic, yaw_deg: Dynamic| -> Res<MapHandle> {
+        let pose = Pose { position: DVec2::new(num(&x, "x")?, num(&y, "y")?), yaw: num(&yaw_deg, "heading")?.to_radians() };
+        let mut st = m.0.borrow_mut();
+        if st.pending_start.is_some() {
+            return Err("two starts in a row: give the goal of the previous start first".into());
+        }
+        st.pending_start = Some(pose);
+        Ok(m.clone())
+    });
+    engine.register_fn("goal", |m: &mut MapHandle, x: Dynamic, y: Dynamic, r: Dynamic| -> Res<MapHandle> {
+        let goal = DVec2::new(num(&x, "x")?, num(&y, "y")?);
+        let radius = num(&r, "goal radius")?;
+        let mut st = m.0.borrow_mut();
+        let start = st.pending_start.take().ok_or_else(|| -> Box<EvalAltResult> { "a goal needs a start before it".into() })?;
+        let mut task = Task::new(start, goal);
+        task.goal_radius = radius;
+        if let Some(t) = st.time_limit_s {
+            task.time_limit_s = t;
+        }
+        if let Some(s) = st.scenario.as_mut() {
+            s.tasks.push(task);
+        }
+        Ok(m.clone())
+    });
+    engine.register_fn(
+        "box",
+        |m: &mut MapHandle, x: Dynamic, y: Dynamic, w: Dynamic, h: Dynamic, yaw_deg: Dynamic| -> Res<MapHandle> {
+            m.add(ObstacleShape::Box {
+                center: DVec2::new(num(&x, "x")?, num(&y, "y")?),
+                width: num(&w, "width")?,
+                height: num(&h, "height")?,
+                yaw: num(&yaw_deg, "yaw")?.to_radians(),
+            })
+        },
+    );
+    engine.register_fn("cylinder", |m: &mut MapHandle, x: Dynamic, y: Dynamic, r: Dynamic| -> Res<MapHandle> {
+        m.add(ObstacleShape::Cylinder { center: DVec2::new(num(&x, "x")?, num(&y, "y")?), radius: num(&r, "radius")? })
+    });
+    engine.register_fn("convex", |m: &mut MapHandle, pts: Array| -> Res<MapHandle> {
+        m.add(ObstacleShape::Convex { points: points(&pts, "convex")? })
+    });
+    engine.register_fn("polygon", |m: &mut MapHandle, pts: Array| -> Res<MapHandle> {
+        m.add(ObstacleShape::Polygon { outline: points(&pts, "polygon")? })
+    });
+}
+
+/// Runs a map script and returns its validated scenario.
+pub fn load_scenario(
+    source: &str,
+    file: &str,
+    limits: super::Limits,
+    log: &super::ScriptLog,
+) -> Result<Scenario, SourceError> {
+    let value = super::run(source, file, limits, log)?;
+    let handle = value
+        .clone()
+        .try_cast::<MapHandle>()
+        .ok_or_else(|| SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", value.type_name())))?;
+    let mut st = handle.0.borrow_mut();
+    if st.pending_start.is_some() {
+        return Err(SourceError::new(file, 0, 0, "the last start has no goal"));
+    }
+    let scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+    scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
+    Ok(scenario)
+}

@@ -1,0 +1,141 @@
+//! The agent's body for navigation (seed 000 §3.1): a kinematic disc with turn-rate and
+//! acceleration limits, behind the [`Body`] trait so the animation controller (seed 000 §3.2)
+//! can drive the same loop with animation root motion.
+//!
+//! Invariant: a body never moves into an obstacle. A step whose end position is not free is
+//! shortened (halved up to four times) and, if still blocked, not taken: the body only turns
+//! and its speed drops to zero.
+
+use glam::DVec2;
+
+use crate::world::Pose;
+
+/// What the planner asks of the body for one step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Command {
+    /// Heading change rate, radians per second, positive to the left.
+    pub turn_rate: f64,
+    /// Forward speed, metres per second.
+    pub speed: f64,
+}
+
+/// What happened during one step.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepOutcome {
+    /// Distance travelled, metres.
+    pub moved_m: f64,
+    /// True when the step had to be shortened or refused because it would hit something.
+    pub blocked: bool,
+}
+
+/// Something the navigation loop can drive.
+pub trait Body {
+    /// Current pose.
+    fn pose(&self) -> Pose;
+    /// Current forward speed, metres per second.
+    fn speed(&self) -> f64;
+    /// Radius of the disc the body occupies, metres.
+    fn radius(&self) -> f64;
+    /// Advances by `dt` seconds following `command`; `free(p)` says whether the body may stand
+    /// at `p`.
+    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome;
+}
+
+/// Limits of the kinematic disc. Every field documents its default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiscLimits {
+    /// Radius, metres (0.3).
+    pub radius: f64,
+    /// Top forward speed, metres per second (1.5).
+    pub max_speed: f64,
+    /// Top turn rate, radians per second (2.5, about 143°/s).
+    pub max_turn_rate: f64,
+    /// Largest speed increase per second, m/s² (2.0).
+    pub max_acceleration: f64,
+    /// Largest speed decrease per second, m/s² (4.0).
+    pub max_deceleration: f64,
+}
+
+impl Default for DiscLimits {
+    fn default() -> Self {
+        DiscLimits { radius: 0.3, max_speed: 1.5, max_turn_rate: 2.5, max_acceleration: 2.0, max_deceleration: 4.0 }
+    }
+}
+
+/// A disc that turns and accelerates within limits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KinematicDisc {
+    pose: Pose,
+    speed: f64,
+    /// Its limits.
+    pub limits: DiscLimits,
+}
+
+impl KinematicDisc {
+    /// A disc at rest at `pose`.
+    pub fn new(pose: Pose, limits: DiscLimits) -> Self {
+        KinematicDisc { pose, speed: 0.0, limits }
+    }
+}
+
+impl Body for KinematicDisc {
+    fn pose(&self) -> Pose {
+        self.pose
+    }
+
+    fn speed(&self) -> f64 {
+        self.speed
+    }
+
+    fn radius(&self) -> f64 {
+        self.limits.radius
+    }
+
+    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome {
+        let l = self.limits;
+        let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
+        let target = if command.speed.is_finite() { command.speed.clamp(0.0, l.max_speed) } else { 0.0 };
+        self.pose.yaw = crate::world::sensing::wrap_angle(self.pose.yaw + turn.clamp(-l.max_turn_rate, l.max_turn_rate) * dt);
+        let dv = (target - self.speed).clamp(-l.max_deceleration * dt, l.max_acceleration * dt);
+        self.speed = (self.speed + dv).max(0.0);
+        let dir = DVec2::from_angle(self.pose.yaw);
+        let mut distance = self.speed * dt;
+        let mut blocked = false;
+        for _ in 0..5 {
+            if distance <= 0.0 {
+                break;
+            }
+            let next = self.pose.position + dir * distance;
+            if free(next) {
+                self.pose.position = next;
+                return StepOutcome { moved_m: distance, blocked };
+            }
+            blocked = true;
+            distance *= 0.5;
+        }
+        if blocked {
+            self.speed = 0.0;
+        }
+        StepOutcome { moved_m: 0.0, blocked }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_and_guard() {
+        let mut d = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.0 }, DiscLimits::default());
+        let out = d.step(Command { turn_rate: 10.0, speed: 10.0 }, 0.1, &mut |_| true);
+        assert!((d.pose().yaw - 0.25).abs() < 1e-12);
+        assert!((d.speed() - 0.2).abs() < 1e-12);
+        assert!((out.moved_m - 0.02).abs() < 1e-12);
+        // A wall right ahead: the body stops instead of entering it.
+        let before = d.pose().position;
+        let out = d.step(Command { turn_rate: 0.0, speed: 1.0 }, 0.1, &mut |_| false);
+        assert!(out.blocked);
+        assert_eq!(d.pose().position, before);
+        assert_eq!(d.speed(), 0.0);
+    }
+}

@@ -1,0 +1,199 @@
+//! The layered fuzzy navigation controller of seed 000 §3.1 (DESIGN.md §2), plus the
+//! boundary-following behaviour that keeps a reactive planner out of U-shaped traps.
+//!
+//! The rule script (default `scripts/nav.rhai`) builds a [`Network`] of fuzzy engines that
+//! reads what the agent senses — the free distance `front`, `left`, `right` in three sectors,
+//! the `nearest` obstacle in any direction, `balance` (`left - right`, m), `goal_angle`
+//! (degrees, positive to the left),
+//! `goal_distance` (m) and `wall` (free distance on the side being followed) — and outputs
+//! `turn` (deg/s; goal seeking masked by obstacle avoidance), `speed` (m/s) and `follow_turn`
+//! (deg/s, positive toward the followed wall).
+//!
+//! Modes (TangentBug-style): the agent seeks the goal with `turn` until its best distance to
+//! the goal has not improved for `stall_time_s`; then it follows the obstacle boundary with
+//! `follow_turn`, keeping the obstacle on one side, until it is closer to the goal than when it
+//! started following and the straight way to the goal is free. Inference never calls a script.
+
+use super::body::Command;
+use crate::fuzzy::{Engine, Network};
+use crate::world::Sensed;
+
+/// The inputs the controller provides to the rule network, by name.
+pub const PROVIDED_INPUTS: [&str; 8] =
+    ["front", "left", "right", "nearest", "balance", "goal_angle", "goal_distance", "wall"];
+
+/// The outputs the controller needs from the rule network.
+pub const REQUIRED_OUTPUTS: [&str; 3] = ["turn", "speed", "follow_turn"];
+
+/// Tuning of the mode switches. Every field documents its default.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControllerParams {
+    /// Seconds without progress toward the goal before boundary following starts (4.0).
+    pub stall_time_s: f64,
+    /// Improvement of the best goal distance that counts as progress, metres (0.25).
+    pub progress_m: f64,
+    /// Boundary following ends once the goal is this much closer than at its start, metres (0.25).
+    pub leave_margin_m: f64,
+    /// Boundary following on one side gives up and switches side after this long, seconds (40).
+    pub max_follow_s: f64,
+}
+
+impl Default for ControllerParams {
+    fn default() -> Self {
+        ControllerParams { stall_time_s: 4.0, progress_m: 0.25, leave_margin_m: 0.25, max_follow_s: 40.0 }
+    }
+}
+
+/// Which side the followed boundary is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// Obstacle on the left.
+    Left,
+    /// Obstacle on the right.
+    Right,
+}
+
+/// What the controller is doing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mode {
+    /// Goal seeking masked by obstacle avoidance.
+    Seek,
+    /// Following an obstacle boundary.
+    Follow {
+        /// Side of the obstacle.
+        side: Side,
+        /// Distance to the goal when following started, metres.
+        entry_distance_m: f64,
+        /// Simulation time when following started, seconds.
+        since_s: f64,
+    },
+}
+
+/// The layered controller with its mode state.
+#[derive(Debug, Clone)]
+pub struct LayeredController {
+    network: Network,
+    /// For each network input, which provided value feeds it.
+    slots: Vec<usize>,
+    inputs: Vec<f64>,
+    /// Mode-switch tuning.
+    pub params: ControllerParams,
+    mode: Mode,
+    best_distance: f64,
+    last_progress_s: f64,
+    follows: u32,
+}
+
+impl LayeredController {
+    /// Builds the controller from the rule script's engines; the message names any input the
+    /// network reads that the controller does not provide, or a missing output.
+    pub fn new(engines: &[Engine], params: ControllerParams) -> Result<LayeredController, String> {
+        let network = Network::new(engines).map_err(|e| e.message)?;
+        let mut slots = Vec::new();
+        for name in network.input_names() {
+            match PROVIDED_INPUTS.iter().position(|p| *p == name) {
+                Some(i) => slots.push(i),
+                None => {
+                    return Err(format!(
+                        "the rules read input '{name}', which navigation does not provide (it provides: {})",
+                        PROVIDED_INPUTS.join(", ")
+                    ));
+                }
+            }
+        }
+        for out in REQUIRED_OUTPUTS {
+            if network.output(out).is_none() {
+                return Err(format!("the rules must produce an output named '{out}'"));
+            }
+        }
+        let n = slots.len();
+        Ok(LayeredController {
+            network,
+            slots,
+            inputs: vec![0.0; n],
+            params,
+            mode: Mode::Seek,
+            best_distance: f64::INFINITY,
+            last_progress_s: 0.0,
+            follows: 0,
+        })
+    }
+
+    /// Forgets the mode history (new episode).
+    pub fn reset(&mut self) {
+        self.mode = Mode::Seek;
+        self.best_distance = f64::INFINITY;
+        self.last_progress_s = 0.0;
+        self.follows = 0;
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// The rule network (for readouts of inputs, outputs and fired rules).
+    pub fn network(&self) -> &Network {
+        &self.network
+    }
+
+    /// How many times boundary following started.
+    pub fn follow_count(&self) -> u32 {
+        self.follows
+    }
+
+    /// The command for what the agent senses at time `t_s`; `goal_visible` says whether the
+    /// straight way to the goal is free.
+    pub fn command(&mut self, s: &Sensed, goal_visible: bool, t_s: f64) -> Command {
+        let p = self.params;
+        if s.goal_distance < self.best_distance - p.progress_m || self.best_distance.is_infinite() {
+            self.best_distance = s.goal_distance;
+            self.last_progress_s = t_s;
+        }
+        let (left, front, right) = (s.sectors[2], s.sectors[1], s.sectors[0]);
+        match self.mode {
+            Mode::Seek => {
+                if t_s - self.last_progress_s > p.stall_time_s {
+                    // Turn toward the goal's side, keeping the obstacle on the other side.
+                    let side = if s.goal_angle >= 0.0 { Side::Right } else { Side::Left };
+                    self.follows += 1;
+                    self.mode = Mode::Follow { side, entry_distance_m: s.goal_distance, since_s: t_s };
+                }
+            }
+            Mode::Follow { side, entry_distance_m, since_s } => {
+                if s.goal_distance < entry_distance_m - p.leave_margin_m && goal_visible {
+                    self.mode = Mode::Seek;
+                    self.last_progress_s = t_s;
+                    self.best_distance = s.goal_distance;
+                } else if t_s - since_s > p.max_follow_s {
+                    self.mode = Mode::Follow { side: other(side), entry_distance_m, since_s: t_s };
+                }
+            }
+        }
+        let wall = match self.mode {
+            Mode::Follow { side: Side::Left, .. } => left,
+            Mode::Follow { side: Side::Right, .. } => right,
+            Mode::Seek => left.min(right),
+        };
+        let provided = [front, left, right, s.nearest, left - right, s.goal_angle.to_degrees(), s.goal_distance, wall];
+        for (dst, &slot) in self.inputs.iter_mut().zip(&self.slots) {
+            *dst = provided[slot];
+        }
+        self.network.process(&self.inputs);
+        let out = |name: &str| self.network.output(name).filter(|v| v.is_finite()).unwrap_or(0.0);
+        let speed = out("speed");
+        let turn_deg = match self.mode {
+            Mode::Seek => out("turn"),
+            Mode::Follow { side: Side::Left, .. } => out("follow_turn"),
+            Mode::Follow { side: Side::Right, .. } => -out("follow_turn"),
+        };
+        Command { turn_rate: turn_deg.to_radians(), speed }
+    }
+}
+
+fn other(side: Side) -> Side {
+    match side {
+        Side::Left => Side::Right,
+        Side::Right => Side::Left,
+    }
+}

@@ -1,0 +1,117 @@
+//! End-to-end checks of `strider fuzzy …` and the default scenario, through the real binary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn strider(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strider"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run strider")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn default_run_prints_the_control_surface() {
+    let o = strider(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("control surface"));
+}
+
+#[test]
+fn eval_grid_and_rows() {
+    let o = strider(&["fuzzy", "eval", "scripts/simple_nav.rhai"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "distance,angle,turn,speed");
+    assert_eq!(lines.len(), 1 + 32 * 32);
+    assert_eq!(lines[1].split(',').take(2).collect::<Vec<_>>(), vec!["0", "-180"]);
+
+    let dir = temp_dir("eval_rows");
+    let csv = dir.join("in.csv");
+    std::fs::write(&csv, "food,service\n0,0\n10,10\nnan,5\n").unwrap();
+    let o = strider(&["fuzzy", "eval", "tests/fixtures/fuzzy/tipper.fll", "--inputs", csv.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows: Vec<Vec<f64>> =
+        stdout(&o).lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 3);
+    // service = 0, food = 0: only "cheap" fires, fully for Takagi-Sugeno → 5.
+    assert_eq!(rows[0][3], 5.0);
+    // service = 10, food = 10: only "generous" fires fully; linear 1·10 + 1·10 + 5 = 25.
+    assert_eq!(rows[1][3], 25.0);
+    assert!(rows[0][2] > 0.0 && rows[0][2] < 10.0);
+}
+
+#[test]
+fn export_then_import_gives_identical_outputs() {
+    let dir = temp_dir("export");
+    let o = strider(&["fuzzy", "export", "scripts/simple_nav.rhai", "--format", "fll"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let fll = dir.join("nav.fll");
+    std::fs::write(&fll, o.stdout).unwrap();
+    let a = strider(&["fuzzy", "eval", "scripts/simple_nav.rhai"]);
+    let b = strider(&["fuzzy", "eval", fll.to_str().unwrap()]);
+    assert!(b.status.success(), "{}", stderr(&b));
+    assert_eq!(stdout(&a), stdout(&b));
+}
+
+#[test]
+fn bad_input_is_a_located_error_with_exit_code_2() {
+    let o = strider(&["fuzzy", "eval", "tests/fixtures/fuzzy/bad_rule.fll"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad_rule.fll:46:"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("unknown term 'averag'"), "{}", stderr(&o));
+
+    let o = strider(&["fuzzy", "eval", "tests/fixtures/fuzzy/endless.rhai"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("endless.rhai:5:"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("operation limit"), "{}", stderr(&o));
+
+    let o = strider(&["fuzzy", "eval", "tests/fixtures/fuzzy/missing.fll"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = strider(&["fuzzy", "eval", "Cargo.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+
+    let dir = temp_dir("bad_csv");
+    let csv = dir.join("bad.csv");
+    std::fs::write(&csv, "service,food\n1,x\n").unwrap();
+    let o = strider(&["fuzzy", "eval", "tests/fixtures/fuzzy/tipper.fll", "--inputs", csv.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.csv:2:3"), "{}", stderr(&o));
+}
+
+#[test]
+fn plot_writes_pngs() {
+    let dir = temp_dir("plot");
+    let o = strider(&["fuzzy", "plot", "tests/fixtures/fuzzy/tipper.fll", "--out", dir.to_str().unwrap(), "--size", "320x200"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["tipper_input_service.png", "tipper_output_tsTip.png", "surface_tip.png", "surface_tsTip.png"] {
+        let img = image::open(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((img.width(), img.height()), (320, 200));
+    }
+}
+
+#[test]
+fn bench_reports_rate_and_agreement() {
+    let o = strider(&["fuzzy", "bench", "scripts/simple_nav.rhai", "--seconds", "0.2", "--check", "200"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("inferences per second"), "{text}");
+    assert!(text.contains("max |compiled - reference| over 200 inputs"), "{text}");
+}

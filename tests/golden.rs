@@ -1,0 +1,200 @@
+//! Golden-image tests for the top-down scene renderer (seed 000 Fig 2-style views).
+//!
+//! Each test renders a [`Scene`] with [`render_png`] — the same `draw_scene` routine the
+//! terminal UI uses — and compares it with `tests/golden/{name}.png`. A pixel counts as equal
+//! when every channel differs by at most [`CHANNEL_TOLERANCE`]; a test fails when more than
+//! [`MAX_DIFFERING_FRACTION`] of the pixels differ, writing the actual image and a diff image
+//! (differing pixels red over a faded copy) to `target/golden-failures/`.
+//!
+//! Regenerate the golden files with `UPDATE_GOLDEN=1 cargo test --test golden`, then look at
+//! them before committing.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+use strider::geom::Aabb;
+use strider::render::png::{encode, render_png};
+use strider::render::scene::{AgentView, Scene};
+use strider::world::{Obstacle, ObstacleShape, SectorLayout, Sensed, World};
+use tiny_skia::Pixmap;
+
+/// Largest per-channel difference (0–255) for two pixels to count as equal.
+const CHANNEL_TOLERANCE: u8 = 8;
+/// Largest fraction of differing pixels for an image to match (0.1 %).
+const MAX_DIFFERING_FRACTION: f64 = 0.001;
+
+fn golden_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("golden").join(format!("{name}.png"))
+}
+
+fn failure_dir() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
+    target.join("golden-failures")
+}
+
+/// Straight-alpha RGBA bytes of a pixmap.
+fn straight_rgba(pm: &Pixmap) -> Vec<[u8; 4]> {
+    pm.pixels()
+        .iter()
+        .map(|p| {
+            let c = p.demultiply();
+            [c.red(), c.green(), c.blue(), c.alpha()]
+        })
+        .collect()
+}
+
+/// Compares `actual` with `tests/golden/{name}.png`, or rewrites the golden file when
+/// `UPDATE_GOLDEN=1` is set. Panics with the paths of the written actual and diff images on a
+/// mismatch.
+fn assert_matches_golden(name: &str, actual: &Pixmap) {
+    let path = golden_path(name);
+    if std::env::var("UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, encode(actual).unwrap()).unwrap();
+        return;
+    }
+    if !path.exists() {
+        panic!(
+            "golden file {} is missing; run `UPDATE_GOLDEN=1 cargo test --test golden` and look at the result",
+            path.display()
+        );
+    }
+    let expected = image::open(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display())).to_rgba8();
+    let (w, h) = (actual.width(), actual.height());
+    let got = straight_rgba(actual);
+    let (mismatch, differing) = if expected.dimensions() != (w, h) {
+        (format!("size {}x{} differs from golden {:?}", w, h, expected.dimensions()), vec![true; got.len()])
+    } else {
+        let differing: Vec<bool> = got
+            .iter()
+            .zip(expected.pixels())
+            .map(|(a, e)| a.iter().zip(e.0.iter()).any(|(x, y)| x.abs_diff(*y) > CHANNEL_TOLERANCE))
+            .collect();
+        let n = differing.iter().filter(|&&d| d).count();
+        let frac = n as f64 / got.len().max(1) as f64;
+        if frac <= MAX_DIFFERING_FRACTION {
+            return;
+        }
+        (format!("{n} of {} pixels differ ({:.3} %)", got.len(), frac * 100.0), differing)
+    };
+    let dir = failure_dir();
+    std::fs::create_dir_all(&dir).unwrap();
+    let actual_path = dir.join(format!("{name}.actual.png"));
+    let diff_path = dir.join(format!("{name}.diff.png"));
+    std::fs::write(&actual_path, encode(actual).unwrap()).unwrap();
+    let diff = image::RgbaImage::from_fn(w, h, |x, y| {
+        let i = (y * w + x) as usize;
+        if differing[i] {
+            image::Rgba([255, 0, 0, 255])
+        } else {
+            let [r, g, b, _] = got[i];
+            let fade = |c: u8| 255 - (255 - c) / 4;
+            image::Rgba([fade(r), fade(g), fade(b), 255])
+        }
+    });
+    diff.save(&diff_path).unwrap();
+    panic!(
+        "{name}: rendering does not match {}: {mismatch}\n  actual: {}\n  diff:   {}\n  \
+         (if the change is intended: UPDATE_GOLDEN=1 cargo test --test golden)",
+        path.display(),
+        actual_path.display(),
+        diff_path.display()
+    );
+}
+
+fn obstacle(shape: ObstacleShape) -> Obstacle {
+    Obstacle::build(shape, 0.0, 2.0).unwrap()
+}
+
+/// A yawed box, a cylinder and a non-convex L-shaped polygon.
+fn demo_world() -> World {
+    World::new(vec![
+        obstacle(ObstacleShape::Box { center: DVec2::new(4.5, 3.2), width: 2.0, height: 1.0, yaw: 0.5 }),
+        obstacle(ObstacleShape::Cylinder { center: DVec2::new(7.0, -0.6), radius: 0.7 }),
+        obstacle(ObstacleShape::Polygon {
+            outline: vec![
+                DVec2::new(1.5, -4.0),
+                DVec2::new(5.0, -4.0),
+                DVec2::new(5.0, -3.0),
+                DVec2::new(2.5, -3.0),
+                DVec2::new(2.5, -0.8),
+                DVec2::new(1.5, -0.8),
+            ],
+        }),
+    ])
+}
+
+/// One agent walking from the lower left along a curve, with footprints on alternating
+/// sides and three sensor sectors computed from the world.
+fn demo_scene(world: &World) -> Scene<'_> {
+    let goal = DVec2::new(9.0, 1.5);
+    let trail: Vec<DVec2> = (0..=40)
+        .map(|i| {
+            let t = f64::from(i) / 40.0;
+            DVec2::new(-1.0 + 4.5 * t, -1.0 + 1.6 * (t * std::f64::consts::PI * 0.9).sin())
+        })
+        .collect();
+    let position = *trail.last().unwrap();
+    let before = trail[trail.len() - 2];
+    let yaw = (position - before).to_angle();
+    let mut footprints = Vec::new();
+    for (k, w) in trail.windows(2).enumerate().step_by(4) {
+        let dir = (w[1] - w[0]).normalize();
+        let side = if (k / 4).is_multiple_of(2) { 1.0 } else { -1.0 };
+        footprints.push((w[0] + dir.perp() * 0.11 * side, dir.to_angle()));
+    }
+    let layout = SectorLayout::three();
+    let mut sensed = Sensed::default();
+    let radius = 0.3;
+    world.sense(position, yaw, radius, goal, &layout, &[], &mut Vec::new(), &mut sensed);
+    Scene {
+        world,
+        agents: vec![AgentView {
+            position,
+            yaw,
+            radius,
+            trail,
+            sectors: Some((layout.edges.clone(), sensed.sectors.clone(), layout.range)),
+            footprints,
+            label: Some("agent 1".into()),
+        }],
+        goals: vec![(goal, 0.5)],
+        view: None,
+        caption: Some("box, cylinder, L-shape, 3 sectors".into()),
+    }
+}
+
+#[test]
+fn scene_with_obstacles_and_agent() {
+    let world = demo_world();
+    assert_matches_golden("scene_640x480", &render_png(&demo_scene(&world), 640, 480));
+}
+
+#[test]
+fn same_scene_other_size() {
+    let world = demo_world();
+    assert_matches_golden("scene_300x400", &render_png(&demo_scene(&world), 300, 400));
+}
+
+#[test]
+fn empty_world_one_agent() {
+    let world = World::new(Vec::new());
+    let scene = Scene {
+        world: &world,
+        agents: vec![AgentView {
+            position: DVec2::new(0.5, 0.0),
+            yaw: 1.0,
+            radius: 0.3,
+            trail: vec![DVec2::new(-1.5, -1.0), DVec2::new(-0.5, -0.8), DVec2::new(0.5, 0.0)],
+            sectors: None,
+            footprints: vec![],
+            label: None,
+        }],
+        goals: vec![],
+        view: Some(Aabb::new(DVec2::new(-3.0, -2.0), DVec2::new(3.0, 2.0))),
+        caption: None,
+    };
+    assert_matches_golden("empty_world", &render_png(&scene, 320, 240));
+}
