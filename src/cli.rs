@@ -73,7 +73,7 @@ pub type Outcome = Result<(), Failure>;
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        None => fuzzy::default_scenario(),
+        None => run::default_scenario(),
         Some(Command::Fuzzy { command }) => fuzzy::run(command),
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Gen(args)) => run::gen_world(args),

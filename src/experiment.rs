@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::plan;
 use crate::scenario::Scenario;
 use crate::sim::{LayeredController, Outcome, Simulation, StepParameters};
-use crate::world::{Task, World};
+use crate::world::World;
 
 /// The measurements of one episode.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -72,17 +72,17 @@ pub struct Episode {
     pub trail: Vec<glam::DVec2>,
 }
 
-/// Runs one task to completion.
+/// Runs task `task_index` of `scenario` (in `world`, the scenario's world) to completion.
 pub fn run_episode(
+    scenario: &Scenario,
     world: &World,
-    scenario_name: &str,
     task_index: usize,
-    task: Task,
     controller: &LayeredController,
     params: &StepParameters,
     episode: usize,
     seed: u64,
 ) -> Episode {
+    let task = scenario.tasks[task_index];
     let optimal = plan::shortest_path(world, task.start.position, task.goal, params.limits.radius).map(|p| p.length);
     let mut sim = Simulation::new(world.clone(), params.clone());
     sim.add_agent(task, controller);
@@ -94,7 +94,7 @@ pub fn run_episode(
     let reached = agent.outcome == Some(Outcome::Reached);
     let record = EpisodeRecord {
         episode,
-        scenario: scenario_name.to_string(),
+        scenario: scenario.name.clone(),
         task: task_index,
         seed,
         reached,
@@ -135,8 +135,7 @@ pub fn run_batch(
             let world = job.scenario.world();
             let mut p = params.clone();
             p.limits.radius = job.scenario.agent_radius;
-            let task = job.scenario.tasks[job.task];
-            let e = run_episode(&world, &job.scenario.name, job.task, task, controller, &p, i, job.seed);
+            let e = run_episode(&job.scenario, &world, job.task, controller, &p, i, job.seed);
             progress();
             e.record
         })

@@ -17,6 +17,6 @@ pub mod plan;
 pub mod render;
 pub mod rng;
 pub mod scenario;
-pub mod sim;
 pub mod script;
+pub mod sim;
 pub mod world;

@@ -62,7 +62,7 @@ pub const ARC_SEGMENTS: usize = 64;
 /// bounds the whole path by the same factor. Straight parts of grown polygons are exact.
 ///
 /// Caveat: the approximation may close a passage that is open by less than
-/// `R·(sec(π/n) − 1)` (about 0.036 mm for `R` = 0.3 m) between a rounded corner and another
+/// `R·(sec(π/n) − 1)` (about 0.36 mm for `R` = 0.3 m) between a rounded corner and another
 /// obstacle; such a hairline gap is then not used.
 pub const LENGTH_ERROR_BOUND: f64 = 0.00121;
 

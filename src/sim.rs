@@ -21,6 +21,10 @@ use crate::world::{SectorLayout, Sensed, Task, World};
 pub struct StepParameters {
     /// Time step, seconds (0.05).
     pub dt_s: f64,
+    /// Rays of the all-around scan that picks the heading toward the goal (72, every 5°).
+    pub scan_rays: usize,
+    /// The scan is refreshed every this many steps (4).
+    pub scan_every: usize,
     /// Sensor sectors and range (right, front, left; 5 m).
     pub layout: SectorLayout,
     /// Limits of each agent's disc body (see [`DiscLimits`]).
@@ -29,7 +33,13 @@ pub struct StepParameters {
 
 impl Default for StepParameters {
     fn default() -> Self {
-        StepParameters { dt_s: 0.05, layout: SectorLayout::three(), limits: DiscLimits::default() }
+        StepParameters {
+            dt_s: 0.05,
+            scan_rays: 72,
+            scan_every: 4,
+            layout: SectorLayout::three(),
+            limits: DiscLimits::default(),
+        }
     }
 }
 
@@ -78,6 +88,12 @@ pub struct Agent {
     pub metrics: Metrics,
     /// Set when the episode of this agent is over.
     pub outcome: Option<Outcome>,
+    /// Direction the agent heads for to approach the goal (absolute, radians): the goal
+    /// itself when the way is open, else the most promising free direction of the scan.
+    pub heading_to_goal: f64,
+    /// Closest approach to the goal reachable in a straight line from the last scan, metres.
+    pub reachable_goal_distance: f64,
+    scan: Vec<f64>,
 }
 
 /// A world with agents, stepped at a fixed rate.
@@ -124,6 +140,9 @@ impl Simulation {
                 follows: 0,
             },
             outcome: None,
+            heading_to_goal: 0.0,
+            reachable_goal_distance: f64::INFINITY,
+            scan: Vec::new(),
         });
     }
 
@@ -160,7 +179,31 @@ impl Simulation {
                 &mut self.scratch,
                 &mut agent.sensed,
             );
-            let visible = goal_visible(&self.world, pose.position, agent.task.goal, radius, &self.params.layout, &mut self.scratch);
+            let visible = goal_visible(
+                &self.world,
+                pose.position,
+                agent.task.goal,
+                radius,
+                &self.params.layout,
+                &mut self.scratch,
+            );
+            let step_index = (t / dt).round() as usize;
+            if agent.scan.is_empty() || step_index.is_multiple_of(self.params.scan_every.max(1)) {
+                scan(
+                    &self.world,
+                    pose.position,
+                    radius,
+                    self.params.scan_rays,
+                    self.params.layout.range,
+                    &self.others,
+                    &mut self.scratch,
+                    &mut agent.scan,
+                );
+                (agent.heading_to_goal, agent.reachable_goal_distance) =
+                    heading_to_goal(&agent.scan, pose.position, agent.task.goal, self.params.layout.range);
+            }
+            agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
+            agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);
             agent.command = agent.controller.command(&agent.sensed, visible, t);
         }
         // Move in order; each body may only stand where it overlaps nothing.
@@ -228,4 +271,71 @@ pub fn goal_visible(
     let reach = d.min(layout.range).min(GOAL_LOOKAHEAD_M);
     let side = dir.perp() * radius;
     [from, from + side, from - side].iter().all(|&o| world.ray_cast(o, dir, reach, scratch).is_none())
+}
+
+/// Free distance for the agent's disc along `n` rays evenly spaced around it (ray `i` at
+/// angle `2πi/n`), capped at `range`, metres.
+#[allow(clippy::too_many_arguments)]
+pub fn scan(
+    world: &World,
+    from: DVec2,
+    radius: f64,
+    n: usize,
+    range: f64,
+    others: &[(DVec2, f64)],
+    scratch: &mut Vec<usize>,
+    out: &mut Vec<f64>,
+) {
+    out.clear();
+    for i in 0..n.max(1) {
+        let dir = DVec2::from_angle(std::f64::consts::TAU * i as f64 / n.max(1) as f64);
+        let mut t = world.ray_cast(from, dir, range + radius, scratch).unwrap_or(range + radius);
+        for &(c, r) in others {
+            if let Ok(disc) = crate::geom::Shape::circle(c, r)
+                && let Some(h) = disc.ray_cast(from, dir, t)
+            {
+                t = t.min(h);
+            }
+        }
+        out.push((t - radius).clamp(0.0, range));
+    }
+}
+
+/// The absolute heading toward the goal given an all-around `scan`, and the closest approach
+/// to the goal reachable in a straight line: straight at the goal when the way is open far
+/// enough, else the free direction whose reachable end point minimises "distance to the end
+/// point + end point to goal" (TangentBug's motion-to-goal choice). Each direction's free
+/// distance is the smallest over the rays within ±10°, so the disc fits.
+pub fn heading_to_goal(scan: &[f64], from: DVec2, goal: DVec2, range: f64) -> (f64, f64) {
+    let n = scan.len();
+    let direct = (goal - from).to_angle();
+    let d_goal = from.distance(goal);
+    if n == 0 {
+        return (direct, d_goal);
+    }
+    let k = ((10.0f64.to_radians() / (std::f64::consts::TAU / n as f64)).round() as usize).max(1);
+    let widened = |i: usize| -> f64 { (0..=2 * k).map(|o| scan[(i + n + o - k) % n]).fold(f64::INFINITY, f64::min) };
+    let step = std::f64::consts::TAU / n as f64;
+    let gi = ((direct.rem_euclid(std::f64::consts::TAU) / step).round() as usize) % n;
+    if widened(gi) >= d_goal.min(range) - 1e-9 {
+        let reachable = if widened(gi) >= d_goal { 0.0 } else { d_goal - widened(gi) };
+        return (direct, reachable);
+    }
+    let mut best = (f64::INFINITY, direct);
+    let mut reachable = d_goal;
+    for i in 0..n {
+        let free = widened(i);
+        if free < 0.3 {
+            continue;
+        }
+        let angle = step * i as f64;
+        let reach = free.min(d_goal);
+        let end = from + DVec2::from_angle(angle) * reach;
+        reachable = reachable.min(end.distance(goal));
+        let h = reach + end.distance(goal);
+        if h < best.0 {
+            best = (h, angle);
+        }
+    }
+    (best.1, reachable)
 }

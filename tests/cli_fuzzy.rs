@@ -27,13 +27,6 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 #[test]
-fn default_run_prints_the_control_surface() {
-    let o = strider(&[]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("control surface"));
-}
-
-#[test]
 fn eval_grid_and_rows() {
     let o = strider(&["fuzzy", "eval", "scripts/simple_nav.rhai"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -51,10 +44,17 @@ fn eval_grid_and_rows() {
     let rows: Vec<Vec<f64>> =
         stdout(&o).lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
     assert_eq!(rows.len(), 3);
-    // service = 0, food = 0: only "cheap" fires, fully for Takagi-Sugeno → 5.
-    assert_eq!(rows[0][3], 5.0);
-    // service = 10, food = 10: only "generous" fires fully; linear 1·10 + 1·10 + 5 = 25.
-    assert_eq!(rows[1][3], 25.0);
+    // Takagi-Sugeno output by hand. service = 0, food = 0: cheap fires fully (z = 5), average with
+    // the gaussian tail g(0; 5, 1.5), generous with g(0; 10, 1.5) (z = 1·0 + 1·0 + 5).
+    let g = |x: f64, m: f64| (-(x - m) * (x - m) / (2.0 * 1.5 * 1.5)).exp();
+    let (w1, w2, w3) = (1.0, g(0.0, 5.0), g(0.0, 10.0));
+    let expected = (w1 * 5.0 + w2 * 15.0 + w3 * 5.0) / (w1 + w2 + w3);
+    assert!((rows[0][3] - expected).abs() < 1e-12, "{} vs {expected}", rows[0][3]);
+    // service = 10, food = 10: generous fully (z = 10 + 10 + 5 = 25), average with g(10; 5, 1.5),
+    // cheap with g(10; 0, 1.5).
+    let (w1, w2, w3) = (g(10.0, 0.0), g(10.0, 5.0), 1.0);
+    let expected = (w1 * 5.0 + w2 * 15.0 + w3 * 25.0) / (w1 + w2 + w3);
+    assert!((rows[1][3] - expected).abs() < 1e-12, "{} vs {expected}", rows[1][3]);
     assert!(rows[0][2] > 0.0 && rows[0][2] < 10.0);
 }
 
@@ -99,7 +99,15 @@ fn bad_input_is_a_located_error_with_exit_code_2() {
 #[test]
 fn plot_writes_pngs() {
     let dir = temp_dir("plot");
-    let o = strider(&["fuzzy", "plot", "tests/fixtures/fuzzy/tipper.fll", "--out", dir.to_str().unwrap(), "--size", "320x200"]);
+    let o = strider(&[
+        "fuzzy",
+        "plot",
+        "tests/fixtures/fuzzy/tipper.fll",
+        "--out",
+        dir.to_str().unwrap(),
+        "--size",
+        "320x200",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     for name in ["tipper_input_service.png", "tipper_output_tsTip.png", "surface_tip.png", "surface_tsTip.png"] {
         let img = image::open(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));

@@ -123,7 +123,7 @@ fn same(a: f64, b: f64, tol: f64) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(1000))]
 
     #[test]
     fn compiled_agrees_with_reference(seed in any::<u64>(), xs in prop::collection::vec(-6.0f64..6.0, 8..24)) {

@@ -198,3 +198,26 @@ fn empty_world_one_agent() {
     };
     assert_matches_golden("empty_world", &render_png(&scene, 320, 240));
 }
+
+/// A whole navigation episode (the U-shaped trap), final frame: pins the planner's behaviour.
+#[test]
+fn u_trap_episode_final_frame() {
+    use strider::render::sim_view::scene_of;
+    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+    let log = ScriptLog::new();
+    let scenario =
+        map_api::load_scenario(include_str!("../maps/u_trap.rhai"), "maps/u_trap.rhai", Limits::default(), &log)
+            .unwrap();
+    let engines =
+        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
+            .unwrap();
+    let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
+    let mut sim = Simulation::new(scenario.world(), StepParameters::default());
+    sim.add_agent(scenario.tasks[0], &controller);
+    while !sim.all_done() {
+        sim.step();
+    }
+    let pixmap = strider::render::png::render_png(&scene_of(&sim, Some("u_trap".into())), 480, 360);
+    assert_matches_golden("u_trap_final", &pixmap);
+}

@@ -37,7 +37,8 @@ pub struct RenderArgs {
 pub fn render(args: RenderArgs) -> Outcome {
     let source = load_map(&args.map.map, args.map.scen.as_deref())?;
     let controller = load_controller(args.map.rules.as_deref())?;
-    let job = jobs(&source, Some(args.episode + 1), args.map.seed)?.pop().ok_or_else(|| anyhow!("no episode to render"))?;
+    let job =
+        jobs(&source, Some(args.episode + 1), args.map.seed)?.pop().ok_or_else(|| anyhow!("no episode to render"))?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut params = StepParameters::default();
     params.limits.radius = job.scenario.agent_radius;

@@ -105,7 +105,9 @@ pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
             movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)?
         }
         _ => {
-            return Err(anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:DENSITY").into());
+            return Err(
+                anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:DENSITY").into()
+            );
         }
     };
     Ok(MapSource::Scenario(Arc::new(scenario)))
@@ -248,4 +250,37 @@ pub fn gen_world(args: GenArgs) -> Outcome {
     let mut out = io::stdout().lock();
     out.write_all(text::write(&scenario).as_bytes())?;
     Ok(())
+}
+
+/// The built-in default scenario: seed 000 Fig 2 (b), the semi-cluttered environment.
+pub const DEFAULT_MAP: &str = include_str!("../../maps/semi_cluttered.rhai");
+
+/// `strider` with no command: runs the default navigation rules on the built-in
+/// semi-cluttered map and prints the episode's measurements.
+pub fn default_scenario() -> Outcome {
+    let log = ScriptLog::new();
+    let scenario = map_api::load_scenario(DEFAULT_MAP, "maps/semi_cluttered.rhai", Limits::default(), &log)?;
+    let controller = load_controller(None)?;
+    let world = scenario.world();
+    let mut params = StepParameters::default();
+    params.limits.radius = scenario.agent_radius;
+    let e = experiment::run_episode(&scenario, &world, 0, &controller, &params, 0, 0);
+    let r = &e.record;
+    let mut out = BufWriter::new(io::stdout().lock());
+    writeln!(out, "strider: layered fuzzy navigation on the built-in '{}' world (seed 000 Fig 2 b)", r.scenario)?;
+    writeln!(out, "  reached the goal:  {}", if r.reached { "yes" } else { "no" })?;
+    writeln!(out, "  time:              {:.2} s", r.time_s)?;
+    writeln!(
+        out,
+        "  path length:       {:.2} m (optimal {})",
+        r.path_length_m,
+        r.optimal_length_m.map_or("none".into(), |o| format!("{o:.2} m"))
+    )?;
+    writeln!(out, "  path ratio:        {}", r.path_ratio.map_or("-".into(), |x| format!("{x:.3}")))?;
+    writeln!(out, "  min clearance:     {:.3} m", r.min_clearance_m)?;
+    writeln!(out, "  collisions:        {}", r.collisions)?;
+    writeln!(out, "  boundary follows:  {}", r.boundary_follows)?;
+    writeln!(out, "Pictures: strider render maps/semi_cluttered.rhai --out frames/")?;
+    out.flush()?;
+    if r.reached && r.collisions == 0 { Ok(()) } else { Err(Failure::Task(anyhow!("the default scenario failed"))) }
 }

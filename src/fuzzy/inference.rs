@@ -176,7 +176,8 @@ pub(crate) fn finish_output(out: &OutputVariable, value: Option<f64>, previous: 
 /// Records one activation of an output term. Weighted outputs keep one entry per term,
 /// merged with the aggregation (a plain sum without one); integral outputs under maximum
 /// aggregation merge entries of the same term and implication by their maximum, which gives
-/// the same aggregate because every T-norm is monotone.
+/// the same aggregate because every T-norm is monotone on `[0, 1]` (degrees outside it, from
+/// weights or unbounded sums, are kept apart).
 pub(crate) fn record_activation(list: &mut Vec<(usize, TNorm, f64)>, var: &OutputVariable, new: (usize, TNorm, f64)) {
     let weighted = var.defuzzifier.is_some_and(|d| d.resolution().is_none());
     if weighted {
@@ -185,7 +186,8 @@ pub(crate) fn record_activation(list: &mut Vec<(usize, TNorm, f64)>, var: &Outpu
             return;
         }
     } else if var.aggregation == Some(SNorm::Maximum)
-        && let Some(e) = list.iter_mut().find(|e| e.0 == new.0 && e.1 == new.1)
+        && (0.0..=1.0).contains(&new.2)
+        && let Some(e) = list.iter_mut().find(|e| e.0 == new.0 && e.1 == new.1 && (0.0..=1.0).contains(&e.2))
     {
         if new.2 > e.2 {
             e.2 = new.2;
@@ -558,11 +560,17 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
 }
 
 impl CompiledOutput {
+    /// Samples where an activation of `term` with degree `d` can be non-zero: the term's
+    /// support when `d` is in `[0, 1]` (every T-norm maps `(d, 0)` to 0 there), else all.
+    fn span(&self, term: usize, d: f64) -> (usize, usize) {
+        if (0.0..=1.0).contains(&d) { self.support[term] } else { (0, self.resolution) }
+    }
+
     fn aggregate_and_defuzzify(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
         let n = self.resolution;
         let (mut lo, mut hi) = (n, 0);
         for a in &self.activated {
-            let (l, h) = self.support[a.0];
+            let (l, h) = self.span(a.0, a.2);
             lo = lo.min(l);
             hi = hi.max(h);
         }
@@ -583,7 +591,7 @@ impl CompiledOutput {
         }
         let aggregation = var.aggregation.unwrap_or(SNorm::Maximum);
         for &(term, implication, d) in &self.activated {
-            let (l, h) = self.support[term];
+            let (l, h) = self.span(term, d);
             let row = &self.samples[term * n + l..term * n + h];
             let mu = &mut self.mu[l..h];
             match (implication, aggregation) {

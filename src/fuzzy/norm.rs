@@ -3,7 +3,8 @@
 //!
 //! Invariants: for degrees in `[0, 1]` every T-norm has 1 as identity and 0 as absorbing
 //! element (`T(a, 0) = 0`), every S-norm has 0 as identity (`S(a, 0) = a`); the compiled
-//! engine relies on both to skip samples where a term is zero.
+//! engine relies on both to skip samples where a term is zero (only for degrees in `[0, 1]`:
+//! weights and unbounded sums can push a degree above 1, where `T(d, 0)` may be positive).
 
 /// A triangular norm (fuzzy AND).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

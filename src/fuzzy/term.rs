@@ -200,7 +200,8 @@ impl Term {
                 if p.len() < 2 {
                     return Err(format!("term {class} needs at least one x y pair"));
                 }
-                let (pairs, height) = if p.len().is_multiple_of(2) { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
+                let (pairs, height) =
+                    if p.len().is_multiple_of(2) { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
                 let points: Vec<(f64, f64)> = pairs.chunks_exact(2).map(|c| (c[0], c[1])).collect();
                 if points.windows(2).any(|w| w[1].0 < w[0].0) {
                     return Err(format!("term {class} needs its x values in ascending order"));

@@ -55,9 +55,10 @@ fn points(list: &Array, what: &str) -> Res<Vec<DVec2>> {
     list.iter()
         .enumerate()
         .map(|(i, p)| {
-            let pair = p.clone().try_cast::<Array>().filter(|a| a.len() == 2).ok_or_else(|| -> Box<EvalAltResult> {
-                format!("{what}: point {} must be [x, y]", i + 1).into()
-            })?;
+            let pair =
+                p.clone().try_cast::<Array>().filter(|a| a.len() == 2).ok_or_else(|| -> Box<EvalAltResult> {
+                    format!("{what}: point {} must be [x, y]", i + 1).into()
+                })?;
             Ok(DVec2::new(num(&pair[0], "x")?, num(&pair[1], "y")?))
         })
         .collect()
@@ -108,7 +109,8 @@ pub fn register(engine: &mut rhai::Engine) {
         Ok(m.clone())
     });
     engine.register_fn("start", |m: &mut MapHandle, x: Dynamic, y: Dynamic, yaw_deg: Dynamic| -> Res<MapHandle> {
-        let pose = Pose { position: DVec2::new(num(&x, "x")?, num(&y, "y")?), yaw: num(&yaw_deg, "heading")?.to_radians() };
+        let pose =
+            Pose { position: DVec2::new(num(&x, "x")?, num(&y, "y")?), yaw: num(&yaw_deg, "heading")?.to_radians() };
         let mut st = m.0.borrow_mut();
         if st.pending_start.is_some() {
             return Err("two starts in a row: give the goal of the previous start first".into());
@@ -120,7 +122,8 @@ pub fn register(engine: &mut rhai::Engine) {
         let goal = DVec2::new(num(&x, "x")?, num(&y, "y")?);
         let radius = num(&r, "goal radius")?;
         let mut st = m.0.borrow_mut();
-        let start = st.pending_start.take().ok_or_else(|| -> Box<EvalAltResult> { "a goal needs a start before it".into() })?;
+        let start =
+            st.pending_start.take().ok_or_else(|| -> Box<EvalAltResult> { "a goal needs a start before it".into() })?;
         let mut task = Task::new(start, goal);
         task.goal_radius = radius;
         if let Some(t) = st.time_limit_s {
@@ -161,10 +164,9 @@ pub fn load_scenario(
     log: &super::ScriptLog,
 ) -> Result<Scenario, SourceError> {
     let value = super::run(source, file, limits, log)?;
-    let handle = value
-        .clone()
-        .try_cast::<MapHandle>()
-        .ok_or_else(|| SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", value.type_name())))?;
+    let handle = value.clone().try_cast::<MapHandle>().ok_or_else(|| {
+        SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", value.type_name()))
+    })?;
     let mut st = handle.0.borrow_mut();
     if st.pending_start.is_some() {
         return Err(SourceError::new(file, 0, 0, "the last start has no goal"));

@@ -5,22 +5,26 @@
 //! reads what the agent senses — the free distance `front`, `left`, `right` in three sectors,
 //! the `nearest` obstacle in any direction, `balance` (`left - right`, m), `goal_angle`
 //! (degrees, positive to the left),
-//! `goal_distance` (m) and `wall` (free distance on the side being followed) — and outputs
+//! `goal_distance` (m), `wall` (free distance to the nearest obstacle, the one being followed)
+//! and `wall_bearing` (its direction, degrees, +90 = beside the agent on the followed side) —
+//! and outputs
 //! `turn` (deg/s; goal seeking masked by obstacle avoidance), `speed` (m/s) and `follow_turn`
 //! (deg/s, positive toward the followed wall).
 //!
 //! Modes (TangentBug-style): the agent seeks the goal with `turn` until its best distance to
 //! the goal has not improved for `stall_time_s`; then it follows the obstacle boundary with
 //! `follow_turn`, keeping the obstacle on one side, until it is closer to the goal than when it
-//! started following and the straight way to the goal is free. Inference never calls a script.
+//! started following and the straight way to the goal is free, or until some free direction
+//! leads closer to the goal than any point of the boundary so far (TangentBug's leaving
+//! rule), or until the wall is lost. Inference never calls a script.
 
 use super::body::Command;
 use crate::fuzzy::{Engine, Network};
 use crate::world::Sensed;
 
 /// The inputs the controller provides to the rule network, by name.
-pub const PROVIDED_INPUTS: [&str; 8] =
-    ["front", "left", "right", "nearest", "balance", "goal_angle", "goal_distance", "wall"];
+pub const PROVIDED_INPUTS: [&str; 9] =
+    ["front", "left", "right", "nearest", "balance", "goal_angle", "goal_distance", "wall", "wall_bearing"];
 
 /// The outputs the controller needs from the rule network.
 pub const REQUIRED_OUTPUTS: [&str; 3] = ["turn", "speed", "follow_turn"];
@@ -36,11 +40,22 @@ pub struct ControllerParams {
     pub leave_margin_m: f64,
     /// Boundary following on one side gives up and switches side after this long, seconds (40).
     pub max_follow_s: f64,
+    /// The followed wall counts as seen while the nearest obstacle is nearer than this, metres (2.0).
+    pub wall_lost_m: f64,
+    /// Boundary following ends when the wall has not been seen for this long, seconds (2.0).
+    pub wall_lost_s: f64,
 }
 
 impl Default for ControllerParams {
     fn default() -> Self {
-        ControllerParams { stall_time_s: 4.0, progress_m: 0.25, leave_margin_m: 0.25, max_follow_s: 40.0 }
+        ControllerParams {
+            stall_time_s: 4.0,
+            progress_m: 0.25,
+            leave_margin_m: 0.25,
+            max_follow_s: 40.0,
+            wall_lost_m: 2.0,
+            wall_lost_s: 2.0,
+        }
     }
 }
 
@@ -66,6 +81,10 @@ pub enum Mode {
         entry_distance_m: f64,
         /// Simulation time when following started, seconds.
         since_s: f64,
+        /// Smallest goal distance seen while following, metres.
+        followed_min_m: f64,
+        /// Simulation time the followed wall was last seen, seconds.
+        wall_seen_s: f64,
     },
 }
 
@@ -157,25 +176,50 @@ impl LayeredController {
                     // Turn toward the goal's side, keeping the obstacle on the other side.
                     let side = if s.goal_angle >= 0.0 { Side::Right } else { Side::Left };
                     self.follows += 1;
-                    self.mode = Mode::Follow { side, entry_distance_m: s.goal_distance, since_s: t_s };
+                    self.mode = Mode::Follow {
+                        side,
+                        entry_distance_m: s.goal_distance,
+                        since_s: t_s,
+                        followed_min_m: s.goal_distance,
+                        wall_seen_s: t_s,
+                    };
                 }
             }
-            Mode::Follow { side, entry_distance_m, since_s } => {
-                if s.goal_distance < entry_distance_m - p.leave_margin_m && goal_visible {
+            Mode::Follow { side, entry_distance_m, since_s, followed_min_m, wall_seen_s } => {
+                let followed_min_m = followed_min_m.min(s.goal_distance);
+                let wall_seen_s = if s.nearest < p.wall_lost_m { t_s } else { wall_seen_s };
+                let open = goal_visible || s.reachable_goal_distance < s.goal_distance - 1.0;
+                let closer = s.goal_distance < entry_distance_m - p.leave_margin_m && open;
+                if closer || t_s - wall_seen_s > p.wall_lost_s {
                     self.mode = Mode::Seek;
                     self.last_progress_s = t_s;
                     self.best_distance = s.goal_distance;
                 } else if t_s - since_s > p.max_follow_s {
-                    self.mode = Mode::Follow { side: other(side), entry_distance_m, since_s: t_s };
+                    self.mode =
+                        Mode::Follow { side: other(side), entry_distance_m, since_s: t_s, followed_min_m, wall_seen_s };
+                } else {
+                    self.mode = Mode::Follow { side, entry_distance_m, since_s, followed_min_m, wall_seen_s };
                 }
             }
         }
-        let wall = match self.mode {
-            Mode::Follow { side: Side::Left, .. } => left,
-            Mode::Follow { side: Side::Right, .. } => right,
-            Mode::Seek => left.min(right),
+        // The followed wall is the nearest obstacle; its bearing is mirrored for the right side
+        // so that +90° always means "beside the agent on the followed side".
+        let bearing = s.nearest_bearing.to_degrees();
+        let wall_bearing = match self.mode {
+            Mode::Follow { side: Side::Right, .. } => -bearing,
+            _ => bearing,
         };
-        let provided = [front, left, right, s.nearest, left - right, s.goal_angle.to_degrees(), s.goal_distance, wall];
+        let provided = [
+            front,
+            left,
+            right,
+            s.nearest,
+            left - right,
+            s.goal_angle.to_degrees(),
+            s.goal_distance,
+            s.nearest,
+            wall_bearing,
+        ];
         for (dst, &slot) in self.inputs.iter_mut().zip(&self.slots) {
             *dst = provided[slot];
         }

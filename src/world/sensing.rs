@@ -52,6 +52,9 @@ pub struct Sensed {
     pub goal_angle: f64,
     /// Distance to the goal point, metres.
     pub goal_distance: f64,
+    /// How close to the goal the agent could get by moving straight in some free direction,
+    /// metres (TangentBug's reachable distance; the goal distance when nothing better is known).
+    pub reachable_goal_distance: f64,
 }
 
 /// Wraps an angle to `(-π, π]`.

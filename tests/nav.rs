@@ -1,0 +1,173 @@
+//! Navigation end to end: the shipped maps, determinism, and the `run` / `render` / `gen`
+//! commands through the real binary.
+
+use std::process::{Command, Output};
+
+use strider::experiment::{self, Job};
+use strider::maps::generate::{Density, random_world};
+use strider::scenario::Scenario;
+use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+
+fn controller() -> LayeredController {
+    let engines = fuzzy_api::load_engines(
+        include_str!("../scripts/nav.rhai"),
+        "scripts/nav.rhai",
+        Limits::default(),
+        &ScriptLog::new(),
+    )
+    .unwrap();
+    LayeredController::new(&engines, ControllerParams::default()).unwrap()
+}
+
+fn map(name: &str) -> Scenario {
+    let path = format!("{}/maps/{name}.rhai", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    map_api::load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
+}
+
+fn strider(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+#[test]
+fn shipped_maps_are_solved_without_collisions() {
+    let c = controller();
+    for name in ["open_field", "sparse", "semi_cluttered", "cluttered", "u_trap", "corridor_dead_end"] {
+        let s = map(name);
+        let world = s.world();
+        let e = experiment::run_episode(&s, &world, 0, &c, &StepParameters::default(), 0, 0);
+        assert!(e.record.reached, "{name}: {:?}", e.record);
+        assert_eq!(e.record.collisions, 0, "{name}");
+        assert!(e.record.min_clearance_m >= 0.0, "{name}");
+        if name == "u_trap" {
+            assert!(e.record.path_ratio.unwrap() <= 2.0, "{:?}", e.record);
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_trajectory_bit_for_bit() {
+    let c = controller();
+    let run = || {
+        let s = random_world(Density::Cluttered, 7);
+        let mut sim = Simulation::new(s.world(), StepParameters::default());
+        sim.add_agent(s.tasks[0], &c);
+        for _ in 0..400 {
+            sim.step();
+        }
+        sim.agents[0].trail.iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect::<Vec<u64>>()
+    };
+    assert_eq!(run(), run());
+    // Batches agree whatever the number of threads.
+    let jobs: Vec<Job> = (0..4u64)
+        .map(|i| Job { scenario: std::sync::Arc::new(random_world(Density::Sparse, i)), task: 0, seed: i })
+        .collect();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let a = one.install(|| experiment::run_batch(&jobs, &c, &StepParameters::default(), &|| {}));
+    let b = two.install(|| experiment::run_batch(&jobs, &c, &StepParameters::default(), &|| {}));
+    assert_eq!(a, b);
+}
+
+#[test]
+fn several_agents_share_a_world() {
+    let c = controller();
+    let s = map("open_field");
+    let mut sim = Simulation::new(s.world(), StepParameters::default());
+    let mut crossing = s.tasks[0];
+    sim.add_agent(crossing, &c);
+    crossing.start.position = s.tasks[0].goal;
+    crossing.goal = s.tasks[0].start.position;
+    sim.add_agent(crossing, &c);
+    while !sim.all_done() {
+        sim.step();
+    }
+    for a in &sim.agents {
+        assert_eq!(a.metrics.collisions, 0);
+        assert_eq!(a.outcome, Some(strider::sim::Outcome::Reached));
+    }
+}
+
+#[test]
+fn run_command_prints_json_and_csv() {
+    let o = strider(&["run", "maps/u_trap.rhai", "--format", "json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let e = &doc["episodes"][0];
+    for key in ["reached", "collisions", "time_s", "path_length_m", "optimal_length_m", "min_clearance_m", "seed"] {
+        assert!(!e[key].is_null(), "{key} missing in {e}");
+    }
+    assert_eq!(doc["summary"]["success_rate"], 1.0);
+    let a = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv"]);
+    let b = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv", "--threads", "1"]);
+    assert_eq!(a.stdout, b.stdout);
+    assert_eq!(String::from_utf8_lossy(&a.stdout).lines().count(), 4);
+}
+
+#[test]
+fn gen_prints_a_world_that_reads_back() {
+    let o = strider(&["gen", "--density", "semi", "--seed", "3"]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    let s = strider::maps::text::parse(&text, "gen.txt").unwrap();
+    let body = |t: &str| t.lines().skip(1).collect::<Vec<_>>().join("\n");
+    assert_eq!(body(&strider::maps::text::write(&s)), body(&text));
+    assert_eq!(strider(&["gen", "--density", "thick"]).status.code(), Some(2));
+}
+
+#[test]
+fn render_writes_frames() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("render_frames");
+    let _ = std::fs::remove_dir_all(&dir);
+    let o = strider(&[
+        "render",
+        "maps/open_field.rhai",
+        "--out",
+        dir.to_str().unwrap(),
+        "--every",
+        "100",
+        "--size",
+        "200x150",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let frames = std::fs::read_dir(&dir).unwrap().count();
+    assert!(frames >= 3, "{frames}");
+    let img = image::open(dir.join("final.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (200, 150));
+}
+
+#[test]
+fn bad_maps_and_rules_are_located_errors() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_maps");
+    std::fs::create_dir_all(&dir).unwrap();
+    let over = dir.join("over_start.rhai");
+    std::fs::write(
+        &over,
+        "let m = world(\"x\");\nm.start(0.0, 0.0, 0.0);\nm.goal(5.0, 0.0, 0.5);\nm.cylinder(0.0, 0.0, 1.0);\nm\n",
+    )
+    .unwrap();
+    let o = strider(&["run", over.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("start (0, 0) is inside obstacle 1"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let nan = dir.join("nan.txt");
+    std::fs::write(&nan, "start 0 0\ngoal nan 1\n").unwrap();
+    let o = strider(&["run", nan.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("nan.txt:2:"), "{}", String::from_utf8_lossy(&o.stderr));
+    let empty = dir.join("empty.txt");
+    std::fs::write(&empty, "# nothing\n").unwrap();
+    assert_eq!(strider(&["run", empty.to_str().unwrap()]).status.code(), Some(2));
+    let syntax = dir.join("syntax.rhai");
+    std::fs::write(&syntax, "let m = world(\"x\");\nm.box(1, 2, 3;\nm\n").unwrap();
+    let o = strider(&["run", syntax.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("syntax.rhai:2:"), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = strider(&["run", "maps/open_field.rhai", "--rules", "scripts/simple_nav.rhai"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("does not provide"), "{}", String::from_utf8_lossy(&o.stderr));
+}
