@@ -160,12 +160,7 @@ impl Simulation {
             if self.agents[i].outcome.is_some() {
                 continue;
             }
-            self.others.clear();
-            for (j, other) in self.agents.iter().enumerate() {
-                if j != i {
-                    self.others.push((other.body.pose().position, other.body.radius()));
-                }
-            }
+            discs_except(&self.agents, i, &mut self.others);
             let agent = &mut self.agents[i];
             let pose = agent.body.pose();
             let radius = agent.body.radius();
@@ -211,12 +206,7 @@ impl Simulation {
             if self.agents[i].outcome.is_some() {
                 continue;
             }
-            self.others.clear();
-            for (j, other) in self.agents.iter().enumerate() {
-                if j != i {
-                    self.others.push((other.body.pose().position, other.body.radius()));
-                }
-            }
+            discs_except(&self.agents, i, &mut self.others);
             let Simulation { world, agents, params, scratch, others, .. } = self;
             let agent = &mut agents[i];
             let radius = agent.body.radius();
@@ -247,6 +237,14 @@ impl Simulation {
         }
         self.time_s = t + dt;
     }
+}
+
+/// The discs (centre, radius) of every agent but `i`, into `out`.
+fn discs_except(agents: &[Agent], i: usize, out: &mut Vec<(DVec2, f64)>) {
+    out.clear();
+    out.extend(
+        agents.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, a)| (a.body.pose().position, a.body.radius())),
+    );
 }
 
 /// How far ahead the straight way to the goal must be free to count as open, metres.

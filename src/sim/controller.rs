@@ -44,6 +44,8 @@ pub struct ControllerParams {
     pub wall_lost_m: f64,
     /// Boundary following ends when the wall has not been seen for this long, seconds (2.0).
     pub wall_lost_s: f64,
+    /// Top speed while following a boundary, metres per second (0.7).
+    pub follow_speed_mps: f64,
 }
 
 impl Default for ControllerParams {
@@ -55,6 +57,7 @@ impl Default for ControllerParams {
             max_follow_s: 40.0,
             wall_lost_m: 2.0,
             wall_lost_s: 2.0,
+            follow_speed_mps: 0.7,
         }
     }
 }
@@ -101,6 +104,7 @@ pub struct LayeredController {
     best_distance: f64,
     last_progress_s: f64,
     follows: u32,
+    last_side: Option<Side>,
 }
 
 impl LayeredController {
@@ -135,6 +139,7 @@ impl LayeredController {
             best_distance: f64::INFINITY,
             last_progress_s: 0.0,
             follows: 0,
+            last_side: None,
         })
     }
 
@@ -144,6 +149,7 @@ impl LayeredController {
         self.best_distance = f64::INFINITY;
         self.last_progress_s = 0.0;
         self.follows = 0;
+        self.last_side = None;
     }
 
     /// The current mode.
@@ -173,8 +179,11 @@ impl LayeredController {
         match self.mode {
             Mode::Seek => {
                 if t_s - self.last_progress_s > p.stall_time_s {
-                    // Turn toward the goal's side, keeping the obstacle on the other side.
-                    let side = if s.goal_angle >= 0.0 { Side::Right } else { Side::Left };
+                    // The first time, turn toward the goal's side (the obstacle stays on the other
+                    // side); later, keep the side used before, so repeated stalls in one trap
+                    // keep going around it the same way.
+                    let side = self.last_side.unwrap_or(if s.goal_angle >= 0.0 { Side::Right } else { Side::Left });
+                    self.last_side = Some(side);
                     self.follows += 1;
                     self.mode = Mode::Follow {
                         side,
@@ -188,8 +197,7 @@ impl LayeredController {
             Mode::Follow { side, entry_distance_m, since_s, followed_min_m, wall_seen_s } => {
                 let followed_min_m = followed_min_m.min(s.goal_distance);
                 let wall_seen_s = if s.nearest < p.wall_lost_m { t_s } else { wall_seen_s };
-                let open = goal_visible || s.reachable_goal_distance < s.goal_distance - 1.0;
-                let closer = s.goal_distance < entry_distance_m - p.leave_margin_m && open;
+                let closer = s.goal_distance < entry_distance_m - p.leave_margin_m && goal_visible;
                 if closer || t_s - wall_seen_s > p.wall_lost_s {
                     self.mode = Mode::Seek;
                     self.last_progress_s = t_s;
@@ -225,7 +233,10 @@ impl LayeredController {
         }
         self.network.process(&self.inputs);
         let out = |name: &str| self.network.output(name).filter(|v| v.is_finite()).unwrap_or(0.0);
-        let speed = out("speed");
+        let speed = match self.mode {
+            Mode::Seek => out("speed"),
+            Mode::Follow { .. } => out("speed").min(p.follow_speed_mps),
+        };
         let turn_deg = match self.mode {
             Mode::Seek => out("turn"),
             Mode::Follow { side: Side::Left, .. } => out("follow_turn"),
