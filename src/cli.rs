@@ -3,6 +3,7 @@
 //! 1 a failed task or check, 2 a usage, file or script error. A closed stdout pipe is not an
 //! error.
 
+pub mod experiment;
 pub mod fuzzy;
 pub mod render;
 pub mod run;
@@ -37,6 +38,8 @@ pub enum Command {
     Gen(run::GenArgs),
     /// Write top-down PNG frames of an episode.
     Render(render::RenderArgs),
+    /// Run an experiment script (maps, rule sets, episodes, metrics).
+    Experiment(experiment::ExperimentArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -78,6 +81,7 @@ pub fn main() -> ExitCode {
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Gen(args)) => run::gen_world(args),
         Some(Command::Render(args)) => render::render(args),
+        Some(Command::Experiment(args)) => experiment::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

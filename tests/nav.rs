@@ -171,3 +171,18 @@ fn bad_maps_and_rules_are_located_errors() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("does not provide"), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+#[test]
+fn experiment_scripts_compare_rule_sets() {
+    let o = strider(&["experiment", "scripts/compare_rules.rhai"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("default") && text.contains("cautious on u_trap: reached true"), "{text}");
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("experiments");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.rhai");
+    std::fs::write(&bad, "let r = default_rules();\nlet s = run_batch(\"thick\", 3, 1, r);\n").unwrap();
+    let o = strider(&["experiment", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bad.rhai:2:"), "{}", String::from_utf8_lossy(&o.stderr));
+}

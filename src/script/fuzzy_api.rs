@@ -165,6 +165,24 @@ pub fn register(engine: &mut rhai::Engine) {
         Ok(BlockHandle { engine: e.0.clone(), index: engine.rule_blocks.len() - 1 })
     });
     engine.register_fn("to_fll", |e: &mut EngineHandle| fll::export(&e.0.borrow()));
+    engine.register_fn("name", |e: &mut EngineHandle| e.0.borrow().name.clone());
+    engine.register_fn("variable", |e: &mut EngineHandle, name: &str| -> Res<VariableHandle> {
+        let engine = e.0.borrow();
+        if let Some(index) = engine.input_index(name) {
+            return Ok(VariableHandle { engine: e.0.clone(), output: false, index });
+        }
+        if let Some(index) = engine.output_index(name) {
+            return Ok(VariableHandle { engine: e.0.clone(), output: true, index });
+        }
+        fail(format!("engine '{}' has no variable named '{name}'", engine.name))
+    });
+    engine.register_fn("block", |e: &mut EngineHandle, name: &str| -> Res<BlockHandle> {
+        let engine = e.0.borrow();
+        match engine.rule_blocks.iter().position(|b| b.name == name) {
+            Some(index) => Ok(BlockHandle { engine: e.0.clone(), index }),
+            None => fail(format!("engine '{}' has no rule block named '{name}'", engine.name)),
+        }
+    });
 
     // Variables.
     engine.register_fn(
@@ -182,6 +200,18 @@ pub fn register(engine: &mut rhai::Engine) {
             if duplicate {
                 return fail(format!("the variable already has a term named '{name}'"));
             }
+            Ok(v.clone())
+        },
+    );
+    engine.register_fn(
+        "set_term",
+        |v: &mut VariableHandle, name: &str, kind: &str, params: Array| -> Res<VariableHandle> {
+            let values = numbers(&params, &format!("parameter of term '{name}'"))?;
+            let term = Term::from_parameters(kind, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            v.edit(|_, _, _, terms| match terms.iter_mut().find(|t| t.name == name) {
+                Some(t) => t.term = term,
+                None => terms.push(NamedTerm { name: name.to_string(), term }),
+            });
             Ok(v.clone())
         },
     );
@@ -310,6 +340,16 @@ pub fn register(engine: &mut rhai::Engine) {
         }
         Ok(b.clone())
     });
+}
+
+/// The engine a handle holds (a copy).
+pub fn engine_of(handle: &EngineHandle) -> Engine {
+    handle.0.borrow().clone()
+}
+
+/// A handle around an engine, for scripts.
+pub fn handle_of(engine: Engine) -> EngineHandle {
+    EngineHandle(Rc::new(RefCell::new(engine)))
 }
 
 /// The engines a script's final value holds: one engine, or an array of engines.

@@ -1,0 +1,187 @@
+//! `strider experiment SCRIPT`: Rhai scripts that drive whole experiments (seed 000 §4-style
+//! comparisons): load maps or generate seeded worlds, build, edit or load rule sets, run
+//! episodes and batches, and read their metrics.
+//!
+//! ```rhai
+//! let base = default_rules();                      // array of fuzzy engines
+//! let s = run_batch("semi", 100, 42, base);        // density or a map, episodes, seed, rules
+//! print(`success ${s.success_rate}`);
+//! let m = load_map("maps/u_trap.rhai");
+//! let e = run_episode(m, base, 0, 1);              // map, rules, task, seed
+//! print(`reached ${e.reached} ratio ${e.path_ratio}`);
+//! ```
+//! The functions here do file IO and run simulations, so they live with the front-ends and
+//! are registered on top of the one hardened script engine. `print` goes to stdout.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{Context, anyhow};
+use clap::Args;
+use rhai::{Array, Dynamic, EvalAltResult, Map};
+
+use super::Outcome;
+use super::run::{DEFAULT_RULES, MapSource, jobs, load_map};
+use crate::experiment::{self, EpisodeRecord, Summary};
+use crate::fuzzy::Engine;
+use crate::maps::generate::{Density, random_world};
+use crate::scenario::Scenario;
+use crate::script::fuzzy_api::{self, EngineHandle};
+use crate::script::{Limits, ScriptLog, hardened_engine, script_error};
+use crate::sim::{ControllerParams, LayeredController, StepParameters};
+
+type Res<T> = Result<T, Box<EvalAltResult>>;
+
+/// A scenario (world and tasks) held by a script.
+#[derive(Debug, Clone)]
+pub struct ScenarioHandle(Arc<Scenario>);
+
+/// `strider experiment` options.
+#[derive(Debug, Args)]
+pub struct ExperimentArgs {
+    /// The experiment script.
+    pub script: PathBuf,
+}
+
+fn engines(rules: &Array) -> Res<Vec<Engine>> {
+    rules
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            r.clone()
+                .try_cast::<EngineHandle>()
+                .map(|h| fuzzy_api::engine_of(&h))
+                .ok_or_else(|| format!("rules item {} is a {}, not a fuzzy engine", i + 1, r.type_name()).into())
+        })
+        .collect()
+}
+
+fn controller(rules: &Array) -> Res<LayeredController> {
+    let list = engines(rules)?;
+    for e in &list {
+        e.validate().map_err(|err| -> Box<EvalAltResult> { format!("engine '{}': {}", e.name, err.message).into() })?;
+    }
+    LayeredController::new(&list, ControllerParams::default()).map_err(Into::into)
+}
+
+fn rules_array(engines: Vec<Engine>) -> Array {
+    engines.into_iter().map(|e| Dynamic::from(fuzzy_api::handle_of(e))).collect()
+}
+
+fn opt(x: Option<f64>) -> Dynamic {
+    x.map_or(Dynamic::UNIT, Dynamic::from_float)
+}
+
+fn record_map(r: &EpisodeRecord) -> Map {
+    let mut m = Map::new();
+    m.insert("reached".into(), Dynamic::from_bool(r.reached));
+    m.insert("collisions".into(), Dynamic::from_int(i64::from(r.collisions)));
+    m.insert("time_s".into(), Dynamic::from_float(r.time_s));
+    m.insert("path_length_m".into(), Dynamic::from_float(r.path_length_m));
+    m.insert("optimal_length_m".into(), opt(r.optimal_length_m));
+    m.insert("path_ratio".into(), opt(r.path_ratio));
+    m.insert("min_clearance_m".into(), Dynamic::from_float(r.min_clearance_m));
+    m.insert("stalls".into(), Dynamic::from_int(i64::from(r.stalls)));
+    m.insert("boundary_follows".into(), Dynamic::from_int(i64::from(r.boundary_follows)));
+    m
+}
+
+fn summary_map(s: &Summary) -> Map {
+    let mut m = Map::new();
+    m.insert("episodes".into(), Dynamic::from_int(s.episodes as i64));
+    m.insert("reached".into(), Dynamic::from_int(s.reached as i64));
+    m.insert("success_rate".into(), Dynamic::from_float(s.success_rate));
+    m.insert("median_path_ratio".into(), opt(s.median_path_ratio));
+    m.insert("p90_path_ratio".into(), opt(s.p90_path_ratio));
+    m.insert("collisions".into(), Dynamic::from_int(s.collisions as i64));
+    m.insert("min_clearance_m".into(), Dynamic::from_float(s.min_clearance_m));
+    m
+}
+
+fn seed_of(seed: i64) -> Res<u64> {
+    u64::try_from(seed).map_err(|_| format!("seed must be ≥ 0, found {seed}").into())
+}
+
+fn batch(source: &MapSource, episodes: i64, seed: i64, rules: &Array) -> Res<Map> {
+    let n = usize::try_from(episodes)
+        .ok()
+        .filter(|n| *n > 0)
+        .ok_or_else(|| -> Box<EvalAltResult> { format!("episodes must be at least 1, found {episodes}").into() })?;
+    let c = controller(rules)?;
+    let jobs = jobs(source, Some(n), seed_of(seed)?)
+        .map_err(|_| -> Box<EvalAltResult> { "cannot prepare the episodes".into() })?;
+    let records = experiment::run_batch(&jobs, &c, &StepParameters::default(), &|| {});
+    Ok(summary_map(&experiment::summarize(&records)))
+}
+
+/// Registers the experiment functions on a script engine; relative paths resolve from `base`.
+pub fn register(engine: &mut rhai::Engine, base: &Path) {
+    engine.register_type_with_name::<ScenarioHandle>("Scenario");
+    let dir = base.to_path_buf();
+    engine.register_fn("load_map", move |path: &str| -> Res<ScenarioHandle> {
+        let full = dir.join(path);
+        match load_map(&full.to_string_lossy(), None) {
+            Ok(MapSource::Scenario(s)) => Ok(ScenarioHandle(s)),
+            Ok(MapSource::Random(_)) => Err(format!("'{path}' is a generator; use random_world").into()),
+            Err(e) => Err(format!("{e:?}").into()),
+        }
+    });
+    engine.register_fn("random_world", |density: &str, seed: i64| -> Res<ScenarioHandle> {
+        let d: Density = density.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
+        Ok(ScenarioHandle(Arc::new(random_world(d, seed_of(seed)?))))
+    });
+    engine.register_fn("name", |s: &mut ScenarioHandle| s.0.name.clone());
+    engine.register_fn("tasks", |s: &mut ScenarioHandle| s.0.tasks.len() as i64);
+    engine.register_fn("default_rules", || -> Res<Array> {
+        let log = ScriptLog::new();
+        let list = fuzzy_api::load_engines(DEFAULT_RULES, "scripts/nav.rhai", Limits::default(), &log)
+            .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        Ok(rules_array(list))
+    });
+    let dir = base.to_path_buf();
+    engine.register_fn("load_rules", move |path: &str| -> Res<Array> {
+        let full = dir.join(path);
+        let text = std::fs::read_to_string(&full)
+            .map_err(|e| -> Box<EvalAltResult> { format!("cannot read {}: {e}", full.display()).into() })?;
+        let list = fuzzy_api::load_engines(&text, &full.to_string_lossy(), Limits::default(), &ScriptLog::new())
+            .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        Ok(rules_array(list))
+    });
+    engine.register_fn("run_episode", |s: &mut ScenarioHandle, rules: Array, task: i64, seed: i64| -> Res<Map> {
+        let t = usize::try_from(task).ok().filter(|t| *t < s.0.tasks.len()).ok_or_else(|| -> Box<EvalAltResult> {
+            format!("task {task} out of range (the map has {})", s.0.tasks.len()).into()
+        })?;
+        let c = controller(&rules)?;
+        let mut params = StepParameters::default();
+        params.limits.radius = s.0.agent_radius;
+        let e = experiment::run_episode(&s.0, &s.0.world(), t, &c, &params, 0, seed_of(seed)?);
+        Ok(record_map(&e.record))
+    });
+    engine.register_fn("run_batch", |density: &str, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
+        let d: Density = density.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
+        batch(&MapSource::Random(d), episodes, seed, &rules)
+    });
+    engine.register_fn("run_batch", |s: ScenarioHandle, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
+        batch(&MapSource::Scenario(s.0), episodes, seed, &rules)
+    });
+}
+
+/// `strider experiment`.
+pub fn run(args: ExperimentArgs) -> Outcome {
+    let file = args.script.display().to_string();
+    let source = std::fs::read_to_string(&args.script).with_context(|| format!("cannot read {file}"))?;
+    let log = ScriptLog::new();
+    // Experiments may run many episodes; each native call counts as few operations.
+    let mut engine = hardened_engine(Limits::default(), &log);
+    engine.on_print(|s| println!("{s}"));
+    register(&mut engine, Path::new("."));
+    let ast = engine.compile(&source).map_err(|e| {
+        let pos = e.position();
+        anyhow!("{file}:{}:{}: {}", pos.line().unwrap_or(0), pos.position().unwrap_or(0), e.0)
+    })?;
+    engine.run_ast(&ast).map_err(|e| script_error(&file, &e))?;
+    for line in log.lines() {
+        eprintln!("{file}: {line}");
+    }
+    Ok(())
+}
