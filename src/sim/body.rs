@@ -2,9 +2,10 @@
 //! acceleration limits, behind the [`Body`] trait so the animation controller (seed 000 §3.2)
 //! can drive the same loop with animation root motion.
 //!
-//! Invariant: a body never moves into an obstacle. A step whose end position is not free is
-//! shortened (halved up to four times) and, if still blocked, not taken: the body only turns
-//! and its speed drops to zero.
+//! Invariant: a body never moves into an obstacle. A step whose end position is not free slides:
+//! the same step turned up to 60° to either side (its speed keeps only the component along the
+//! heading); failing that it is shortened (halved up to four times) and, if still blocked, not
+//! taken: the body only turns and its speed drops to zero.
 
 use glam::DVec2;
 
@@ -99,25 +100,36 @@ impl Body for KinematicDisc {
             crate::world::sensing::wrap_angle(self.pose.yaw + turn.clamp(-l.max_turn_rate, l.max_turn_rate) * dt);
         let dv = (target - self.speed).clamp(-l.max_deceleration * dt, l.max_acceleration * dt);
         self.speed = (self.speed + dv).max(0.0);
-        let dir = DVec2::from_angle(self.pose.yaw);
-        let mut distance = self.speed * dt;
-        let mut blocked = false;
-        for _ in 0..5 {
-            if distance <= 0.0 {
-                break;
-            }
+        let distance = self.speed * dt;
+        if distance <= 0.0 {
+            return StepOutcome::default();
+        }
+        // Straight ahead if possible; else slide: the same step turned a little to either side
+        // (smallest turn first, left before right), then shorter steps straight ahead.
+        for (k, turn_deg) in [0.0f64, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0].into_iter().enumerate() {
+            let dir = DVec2::from_angle(self.pose.yaw + turn_deg.to_radians());
             let next = self.pose.position + dir * distance;
             if free(next) {
                 self.pose.position = next;
-                return StepOutcome { moved_m: distance, blocked };
+                if k > 0 {
+                    // Sliding keeps only the component along the heading.
+                    self.speed *= turn_deg.to_radians().cos();
+                }
+                return StepOutcome { moved_m: distance, blocked: k > 0 };
             }
-            blocked = true;
-            distance *= 0.5;
         }
-        if blocked {
-            self.speed = 0.0;
+        let dir = DVec2::from_angle(self.pose.yaw);
+        let mut step = distance * 0.5;
+        for _ in 0..4 {
+            let next = self.pose.position + dir * step;
+            if free(next) {
+                self.pose.position = next;
+                return StepOutcome { moved_m: step, blocked: true };
+            }
+            step *= 0.5;
         }
-        StepOutcome { moved_m: 0.0, blocked }
+        self.speed = 0.0;
+        StepOutcome { moved_m: 0.0, blocked: true }
     }
 }
 
