@@ -93,6 +93,8 @@ pub struct Agent {
     pub heading_to_goal: f64,
     /// Closest approach to the goal reachable in a straight line from the last scan, metres.
     pub reachable_goal_distance: f64,
+    /// Distance from the goal to the nearest obstacle point the last scan saw, metres.
+    pub obstacle_goal_distance: f64,
     scan: Vec<f64>,
 }
 
@@ -142,6 +144,7 @@ impl Simulation {
             outcome: None,
             heading_to_goal: 0.0,
             reachable_goal_distance: f64::INFINITY,
+            obstacle_goal_distance: f64::INFINITY,
             scan: Vec::new(),
         });
     }
@@ -196,8 +199,16 @@ impl Simulation {
                 );
                 (agent.heading_to_goal, agent.reachable_goal_distance) =
                     heading_to_goal(&agent.scan, pose.position, agent.task.goal, self.params.layout.range);
+                agent.obstacle_goal_distance = obstacle_goal_distance(
+                    &agent.scan,
+                    pose.position,
+                    agent.task.goal,
+                    radius,
+                    self.params.layout.range,
+                );
             }
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
+            agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);
             agent.command = agent.controller.command(&agent.sensed, visible, t);
         }
@@ -237,6 +248,20 @@ impl Simulation {
         }
         self.time_s = t + dt;
     }
+}
+
+/// The smallest distance from `goal` to an obstacle point hit by the `scan` (rays that ended
+/// before the range), metres; infinite when no ray hit anything.
+pub fn obstacle_goal_distance(scan: &[f64], from: DVec2, goal: DVec2, radius: f64, range: f64) -> f64 {
+    let n = scan.len().max(1);
+    scan.iter()
+        .enumerate()
+        .filter(|(_, f)| **f < range)
+        .map(|(i, f)| {
+            let hit = from + DVec2::from_angle(std::f64::consts::TAU * i as f64 / n as f64) * (f + radius);
+            hit.distance(goal)
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The discs (centre, radius) of every agent but `i`, into `out`.

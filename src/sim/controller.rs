@@ -189,16 +189,19 @@ impl LayeredController {
                         side,
                         entry_distance_m: s.goal_distance,
                         since_s: t_s,
-                        followed_min_m: s.goal_distance,
+                        followed_min_m: s.obstacle_goal_distance.min(s.goal_distance),
                         wall_seen_s: t_s,
                     };
                 }
             }
             Mode::Follow { side, entry_distance_m, since_s, followed_min_m, wall_seen_s } => {
-                let followed_min_m = followed_min_m.min(s.goal_distance);
+                // TangentBug: the closest the followed boundary has come to the goal (points seen
+                // by the scan), against the closest free point reachable in a straight line.
+                let followed_min_m = followed_min_m.min(s.obstacle_goal_distance);
+                let reachable = s.reachable_goal_distance < followed_min_m - p.leave_margin_m;
                 let wall_seen_s = if s.nearest < p.wall_lost_m { t_s } else { wall_seen_s };
                 let closer = s.goal_distance < entry_distance_m - p.leave_margin_m && goal_visible;
-                if closer || t_s - wall_seen_s > p.wall_lost_s {
+                if closer || reachable || t_s - wall_seen_s > p.wall_lost_s {
                     self.mode = Mode::Seek;
                     self.last_progress_s = t_s;
                     self.best_distance = s.goal_distance;

@@ -55,6 +55,9 @@ pub struct Sensed {
     /// How close to the goal the agent could get by moving straight in some free direction,
     /// metres (TangentBug's reachable distance; the goal distance when nothing better is known).
     pub reachable_goal_distance: f64,
+    /// Distance from the goal to the nearest obstacle point seen around the agent, metres
+    /// (infinite when none is in range).
+    pub obstacle_goal_distance: f64,
 }
 
 /// Wraps an angle to `(-π, π]`.
