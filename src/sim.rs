@@ -198,7 +198,7 @@ impl Simulation {
                     &mut agent.scan,
                 );
                 (agent.heading_to_goal, agent.reachable_goal_distance) =
-                    heading_to_goal(&agent.scan, pose.position, agent.task.goal, self.params.layout.range);
+                    heading_to_goal(&agent.scan, pose.position, agent.task.goal, radius, self.params.layout.range);
                 agent.obstacle_goal_distance = obstacle_goal_distance(
                     &agent.scan,
                     pose.position,
@@ -324,35 +324,57 @@ pub fn scan(
     }
 }
 
+/// How far the agent's whole disc (not just its centre) can travel along each ray of an
+/// all-around `scan`: a hit point of another ray blocks a direction when it lies within
+/// `radius` of the line the disc's centre sweeps. Same layout as `scan`, metres.
+pub fn swept_free(scan: &[f64], radius: f64, range: f64) -> Vec<f64> {
+    let n = scan.len();
+    let step = std::f64::consts::TAU / n.max(1) as f64;
+    let table: Vec<(f64, f64)> = (0..n).map(|d| ((step * d as f64).cos(), (step * d as f64).sin())).collect();
+    let hits: Vec<(usize, f64)> =
+        scan.iter().enumerate().filter(|(_, f)| **f < range).map(|(j, f)| (j, f + radius)).collect();
+    (0..n)
+        .map(|i| {
+            let mut free = scan[i];
+            for &(j, t) in &hits {
+                let (c, s) = table[(j + n - i) % n];
+                let (along, perp) = (t * c, t * s);
+                if along > 0.0 && perp.abs() < radius {
+                    free = free.min((along - (radius * radius - perp * perp).sqrt()).max(0.0));
+                }
+            }
+            free
+        })
+        .collect()
+}
+
 /// The absolute heading toward the goal given an all-around `scan`, and the closest approach
 /// to the goal reachable in a straight line: straight at the goal when the way is open far
 /// enough, else the free direction whose reachable end point minimises "distance to the end
-/// point + end point to goal" (TangentBug's motion-to-goal choice). Each direction's free
-/// distance is the smallest over the rays within ±10°, so the disc fits.
-pub fn heading_to_goal(scan: &[f64], from: DVec2, goal: DVec2, range: f64) -> (f64, f64) {
+/// point + end point to goal" (TangentBug's motion-to-goal choice). Free distances are those
+/// of the agent's whole disc ([`swept_free`]).
+pub fn heading_to_goal(scan: &[f64], from: DVec2, goal: DVec2, radius: f64, range: f64) -> (f64, f64) {
     let n = scan.len();
     let direct = (goal - from).to_angle();
     let d_goal = from.distance(goal);
     if n == 0 {
         return (direct, d_goal);
     }
-    let k = ((10.0f64.to_radians() / (std::f64::consts::TAU / n as f64)).round() as usize).max(1);
-    let widened = |i: usize| -> f64 { (0..=2 * k).map(|o| scan[(i + n + o - k) % n]).fold(f64::INFINITY, f64::min) };
+    let free = swept_free(scan, radius, range);
     let step = std::f64::consts::TAU / n as f64;
     let gi = ((direct.rem_euclid(std::f64::consts::TAU) / step).round() as usize) % n;
-    if widened(gi) >= d_goal.min(range) - 1e-9 {
-        let reachable = if widened(gi) >= d_goal { 0.0 } else { d_goal - widened(gi) };
+    if free[gi] >= d_goal.min(range) - 1e-9 {
+        let reachable = if free[gi] >= d_goal { 0.0 } else { d_goal - free[gi] };
         return (direct, reachable);
     }
     let mut best = (f64::INFINITY, direct);
     let mut reachable = d_goal;
-    for i in 0..n {
-        let free = widened(i);
-        if free < 0.3 {
+    for (i, &f) in free.iter().enumerate() {
+        if f < 0.3 {
             continue;
         }
         let angle = step * i as f64;
-        let reach = free.min(d_goal);
+        let reach = f.min(d_goal);
         let end = from + DVec2::from_angle(angle) * reach;
         reachable = reachable.min(end.distance(goal));
         let h = reach + end.distance(goal);
