@@ -88,6 +88,9 @@ pub struct Agent {
     pub metrics: Metrics,
     /// Set when the episode of this agent is over.
     pub outcome: Option<Outcome>,
+    /// When set, the agent follows this command (a user driving it, seed 002 §3.1) instead
+    /// of its controller's; the controller still runs, so its state stays current.
+    pub manual: Option<Command>,
     /// Direction the agent heads for to approach the goal (absolute, radians): the goal
     /// itself when the way is open, else the most promising free direction of the scan.
     pub heading_to_goal: f64,
@@ -142,6 +145,7 @@ impl Simulation {
                 follows: 0,
             },
             outcome: None,
+            manual: None,
             heading_to_goal: 0.0,
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
@@ -210,7 +214,8 @@ impl Simulation {
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);
-            agent.command = agent.controller.command(&agent.sensed, visible, t);
+            let autopilot = agent.controller.command(&agent.sensed, visible, t);
+            agent.command = agent.manual.unwrap_or(autopilot);
         }
         // Move in order; each body may only stand where it overlaps nothing.
         for i in 0..self.agents.len() {
