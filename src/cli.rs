@@ -7,8 +7,9 @@ pub mod experiment;
 pub mod fuzzy;
 pub mod render;
 pub mod run;
+pub mod tui;
 
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -40,6 +41,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Run an experiment script (maps, rule sets, episodes, metrics).
     Experiment(experiment::ExperimentArgs),
+    /// Watch, step and drive a navigation run live in the terminal.
+    Tui(tui::TuiArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -76,12 +79,14 @@ pub type Outcome = Result<(), Failure>;
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        None if io::stdout().is_terminal() && io::stdin().is_terminal() => tui::default_scenario(),
         None => run::default_scenario(),
         Some(Command::Fuzzy { command }) => fuzzy::run(command),
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Gen(args)) => run::gen_world(args),
         Some(Command::Render(args)) => render::render(args),
         Some(Command::Experiment(args)) => experiment::run(args),
+        Some(Command::Tui(args)) => tui::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

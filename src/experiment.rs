@@ -121,6 +121,11 @@ pub struct Job {
     pub seed: u64,
 }
 
+/// The seed of episode `i` of a run seeded with `seed` (random worlds are generated from it).
+pub fn world_seed(seed: u64, i: usize) -> u64 {
+    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i as u64)
+}
+
 /// Runs `jobs` in parallel (one episode each) and returns records in job order.
 /// `progress` is called once per finished episode, from worker threads.
 pub fn run_batch(

@@ -91,6 +91,8 @@ pub struct Agent {
     /// When set, the agent follows this command (a user driving it, seed 002 §3.1) instead
     /// of its controller's; the controller still runs, so its state stays current.
     pub manual: Option<Command>,
+    /// What the controller commanded at the last step (equal to `command` unless `manual`).
+    pub autopilot: Command,
     /// Direction the agent heads for to approach the goal (absolute, radians): the goal
     /// itself when the way is open, else the most promising free direction of the scan.
     pub heading_to_goal: f64,
@@ -146,6 +148,7 @@ impl Simulation {
             },
             outcome: None,
             manual: None,
+            autopilot: Command::default(),
             heading_to_goal: 0.0,
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
@@ -214,8 +217,8 @@ impl Simulation {
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);
-            let autopilot = agent.controller.command(&agent.sensed, visible, t);
-            agent.command = agent.manual.unwrap_or(autopilot);
+            agent.autopilot = agent.controller.command(&agent.sensed, visible, t);
+            agent.command = agent.manual.unwrap_or(agent.autopilot);
         }
         // Move in order; each body may only stand where it overlaps nothing.
         for i in 0..self.agents.len() {

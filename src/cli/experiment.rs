@@ -21,7 +21,8 @@ use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use super::Outcome;
-use super::run::{DEFAULT_RULES, MapSource, jobs, load_map};
+use super::run::{MapSource, jobs, load_map};
+use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::{self, EpisodeRecord, Summary};
 use crate::fuzzy::Engine;
 use crate::maps::generate::{Density, random_world};
@@ -134,7 +135,7 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
     engine.register_fn("tasks", |s: &mut ScenarioHandle| s.0.tasks.len() as i64);
     engine.register_fn("default_rules", || -> Res<Array> {
         let log = ScriptLog::new();
-        let list = fuzzy_api::load_engines(DEFAULT_RULES, "scripts/nav.rhai", Limits::default(), &log)
+        let list = fuzzy_api::load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &log)
             .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });

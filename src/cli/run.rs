@@ -16,8 +16,7 @@ use crate::scenario::Scenario;
 use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
 use crate::sim::{ControllerParams, LayeredController, StepParameters};
 
-/// The default navigation rules (a layered network), built into the binary.
-pub const DEFAULT_RULES: &str = include_str!("../../scripts/nav.rhai");
+pub use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_RULES_FILE};
 
 /// Where the scenarios of a run come from.
 #[derive(Debug, Clone)]
@@ -117,7 +116,7 @@ pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
 pub fn load_controller(rules: Option<&Path>) -> Result<LayeredController, Failure> {
     let (source, file) = match rules {
         Some(p) => (read(p)?, p.display().to_string()),
-        None => (DEFAULT_RULES.to_string(), "scripts/nav.rhai".to_string()),
+        None => (DEFAULT_RULES.to_string(), DEFAULT_RULES_FILE.to_string()),
     };
     let log = ScriptLog::new();
     let engines = fuzzy_api::load_engines(&source, &file, Limits::default(), &log);
@@ -127,10 +126,7 @@ pub fn load_controller(rules: Option<&Path>) -> Result<LayeredController, Failur
     LayeredController::new(&engines?, ControllerParams::default()).map_err(|m| anyhow!("{file}: {m}").into())
 }
 
-/// The random-world seed of episode `i` of a run seeded with `seed`.
-pub fn world_seed(seed: u64, i: usize) -> u64 {
-    seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i as u64)
-}
+pub use crate::experiment::world_seed;
 
 /// The jobs of a run: one per episode.
 pub fn jobs(source: &MapSource, episodes: Option<usize>, seed: u64) -> Result<Vec<Job>, Failure> {
@@ -252,14 +248,11 @@ pub fn gen_world(args: GenArgs) -> Outcome {
     Ok(())
 }
 
-/// The built-in default scenario: seed 000 Fig 2 (b), the semi-cluttered environment.
-pub const DEFAULT_MAP: &str = include_str!("../../maps/semi_cluttered.rhai");
-
 /// `strider` with no command: runs the default navigation rules on the built-in
 /// semi-cluttered map and prints the episode's measurements.
 pub fn default_scenario() -> Outcome {
     let log = ScriptLog::new();
-    let scenario = map_api::load_scenario(DEFAULT_MAP, "maps/semi_cluttered.rhai", Limits::default(), &log)?;
+    let scenario = map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log)?;
     let controller = load_controller(None)?;
     let world = scenario.world();
     let mut params = StepParameters::default();

@@ -5,7 +5,9 @@
 //! term of an integral output is pre-sampled at the defuzzifier's sample points together with
 //! the index span where it is non-zero. With maximum aggregation, activations of the same
 //! output term are grouped first (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any
-//! T-norm), so each output term is folded in once, and only over its support.
+//! T-norm), so each output term is folded in once, and only over its support. Those shortcuts
+//! hold for degrees in `[0, 1]`; a step where some degree leaves it (weights above 1,
+//! unbounded sums) is folded activation by activation in firing order over every sample.
 //!
 //! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
 //! its degree is positive (NaN never fires); an output on which no rule fired, or whose
@@ -71,6 +73,9 @@ struct CompiledOutput {
     mu: Vec<f64>,
     /// Activated terms this step as `(term, implication, degree)`, see [`record_activation`].
     activated: Vec<(usize, TNorm, f64)>,
+    /// Every activation in firing order, kept for the rare step where a degree leaves
+    /// `[0, 1]` (weights, unbounded sums) and the shortcuts above no longer hold.
+    raw: Vec<(usize, TNorm, f64)>,
 }
 
 /// A compiled engine with its state (input values, output values, rule activations).
@@ -407,6 +412,7 @@ impl Inference {
         }
         for out in outs.iter_mut() {
             out.activated.clear();
+            out.raw.clear();
         }
         previous.copy_from_slice(outputs);
         // Rules, block by block. General activation fires rule by rule, so a rule reading an
@@ -423,7 +429,9 @@ impl Inference {
                     let var = &engine.outputs[c.output];
                     if var.enabled {
                         let new = (c.term, block.implication, apply_hedges(&c.hedges, degree));
-                        record_activation(&mut outs[c.output].activated, var, new);
+                        let out = &mut outs[c.output];
+                        out.raw.push(new);
+                        record_activation(&mut out.activated, var, new);
                     }
                 }
             };
@@ -556,21 +564,19 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
         resolution,
         mu: vec![0.0; resolution],
         activated: Vec::with_capacity(var.terms.len()),
+        raw: Vec::new(),
     }
 }
 
 impl CompiledOutput {
-    /// Samples where an activation of `term` with degree `d` can be non-zero: the term's
-    /// support when `d` is in `[0, 1]` (every T-norm maps `(d, 0)` to 0 there), else all.
-    fn span(&self, term: usize, d: f64) -> (usize, usize) {
-        if (0.0..=1.0).contains(&d) { self.support[term] } else { (0, self.resolution) }
-    }
-
     fn aggregate_and_defuzzify(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
+        if self.raw.iter().any(|a| !(0.0..=1.0).contains(&a.2)) {
+            return self.aggregate_in_firing_order(d, var);
+        }
         let n = self.resolution;
         let (mut lo, mut hi) = (n, 0);
         for a in &self.activated {
-            let (l, h) = self.span(a.0, a.2);
+            let (l, h) = self.support[a.0];
             lo = lo.min(l);
             hi = hi.max(h);
         }
@@ -591,7 +597,7 @@ impl CompiledOutput {
         }
         let aggregation = var.aggregation.unwrap_or(SNorm::Maximum);
         for &(term, implication, d) in &self.activated {
-            let (l, h) = self.span(term, d);
+            let (l, h) = self.support[term];
             let row = &self.samples[term * n + l..term * n + h];
             let mu = &mut self.mu[l..h];
             match (implication, aggregation) {
@@ -619,6 +625,26 @@ impl CompiledOutput {
         } else {
             centroid_span(var.minimum, var.maximum, n, &self.mu[lo..hi], lo)
         }
+    }
+}
+
+impl CompiledOutput {
+    /// The aggregate folded activation by activation, in firing order, over every sample:
+    /// exact whatever the degrees.
+    fn aggregate_in_firing_order(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
+        let n = self.resolution;
+        for (i, m) in self.mu.iter_mut().enumerate() {
+            let mut acc = 0.0;
+            for &(term, implication, degree) in &self.raw {
+                let y = implication.apply(degree, self.samples[term * n + i]);
+                acc = match var.aggregation {
+                    Some(agg) => agg.apply(acc, y),
+                    None => y,
+                };
+            }
+            *m = acc;
+        }
+        defuzz::integral(d, var.minimum, var.maximum, &self.mu)
     }
 }
 

@@ -1,0 +1,63 @@
+//! Frame cost of the live terminal view (issue bar: ≥ 30 frames per second with 100 agents on
+//! a 200×60 terminal, i.e. at most 33 ms per frame). One frame is the whole screen: the world
+//! drawn by `draw_scene` into the terminal canvas, every panel, and ratatui's diff into a
+//! `TestBackend`.
+
+use divan::Bencher;
+use glam::DVec2;
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use strider::maps::generate::{Density, random_world};
+use strider::script::{Limits, ScriptLog, fuzzy_api};
+use strider::sim::{ControllerParams, LayeredController};
+use strider::tui::{App, Config, MapSpec, ui};
+use strider::world::{Pose, Task};
+
+fn main() {
+    divan::main();
+}
+
+/// A semi-cluttered random world with `n` agents on a grid of free start points, all heading
+/// for the world's goal, after two seconds of simulation (trails and sensors filled in).
+fn app_with_agents(n: usize) -> App {
+    let log = ScriptLog::new();
+    let engines =
+        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
+            .expect("navigation rules");
+    let controller = LayeredController::new(&engines, ControllerParams::default()).expect("controller");
+    let mut scenario = random_world(Density::Semi, 7);
+    let goal = scenario.tasks[0].goal;
+    let world = scenario.world();
+    let bounds = world.bounds().expect("obstacles");
+    let mut scratch = Vec::new();
+    let mut tasks = Vec::new();
+    let (mut x, mut y) = (bounds.min.x + 0.5, bounds.min.y + 0.5);
+    while tasks.len() < n && y < bounds.max.y {
+        let p = DVec2::new(x, y);
+        if world.is_free(p, scenario.agent_radius + 0.2, &mut scratch) && p.distance(goal) > 2.0 {
+            tasks.push(Task::new(Pose { position: p, yaw: 0.0 }, goal));
+        }
+        x += 1.0;
+        if x > bounds.max.x {
+            x = bounds.min.x + 0.5;
+            y += 1.0;
+        }
+    }
+    assert_eq!(tasks.len(), n, "not enough free start points");
+    scenario.tasks = tasks;
+    let mut app = App::new(Config { map: MapSpec::Random(Density::Semi), rules: None, seed: 7 }, scenario, controller);
+    for _ in 0..40 {
+        app.sim.step();
+    }
+    app
+}
+
+/// One full frame with 100 agents on 200×60 cells; 33 ms = 30 frames per second.
+#[divan::bench]
+fn frame_100_agents_200x60(bencher: Bencher) {
+    let mut app = app_with_agents(100);
+    let mut terminal = Terminal::new(TestBackend::new(200, 60)).expect("test terminal");
+    bencher.bench_local(|| {
+        terminal.draw(|f| ui::draw(f, &mut app)).expect("draw");
+    });
+}

@@ -1,0 +1,34 @@
+//! `strider tui`: the live terminal view of a navigation run (DESIGN.md §6).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::Outcome;
+use crate::tui::{self, Config, MapSpec};
+
+/// `strider tui` options.
+#[derive(Debug, Args)]
+pub struct TuiArgs {
+    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:DENSITY`;
+    /// default: the built-in semi-cluttered scenario.
+    pub map: Option<String>,
+    /// Navigation rules (a `.rhai` script building the layered network); default: built in.
+    #[arg(long)]
+    pub rules: Option<PathBuf>,
+    /// Seed of the run (random worlds).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `strider tui`.
+pub fn run(args: TuiArgs) -> Outcome {
+    let map = MapSpec::parse(args.map.as_deref()).map_err(|e| anyhow::anyhow!(e))?;
+    tui::run(Config { map, rules: args.rules, seed: args.seed })?;
+    Ok(())
+}
+
+/// `strider` with no command on a terminal: the live view of the built-in default scenario.
+pub fn default_scenario() -> Outcome {
+    run(TuiArgs { map: None, rules: None, seed: 1 })
+}
