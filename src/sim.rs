@@ -206,13 +206,8 @@ impl Simulation {
                 );
                 (agent.heading_to_goal, agent.reachable_goal_distance) =
                     heading_to_goal(&agent.scan, pose.position, agent.task.goal, radius, self.params.layout.range);
-                agent.obstacle_goal_distance = obstacle_goal_distance(
-                    &agent.scan,
-                    pose.position,
-                    agent.task.goal,
-                    radius,
-                    self.params.layout.range,
-                );
+                agent.obstacle_goal_distance =
+                    obstacle_goal_distance(&agent.scan, pose.position, agent.task.goal, radius, FOLLOWED_REACH_M);
             }
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
@@ -258,8 +253,12 @@ impl Simulation {
     }
 }
 
-/// The smallest distance from `goal` to an obstacle point hit by the `scan` (rays that ended
-/// before the range), metres; infinite when no ray hit anything.
+/// Obstacle points within this free distance count as the boundary being followed, metres.
+pub const FOLLOWED_REACH_M: f64 = 1.2;
+
+/// The smallest distance from `goal` to an obstacle point hit by the `scan` with a free
+/// distance below `range` (the obstacle boundary around the agent), metres; infinite when no
+/// ray hit anything that near.
 pub fn obstacle_goal_distance(scan: &[f64], from: DVec2, goal: DVec2, radius: f64, range: f64) -> f64 {
     let n = scan.len().max(1);
     scan.iter()
