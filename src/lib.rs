@@ -7,6 +7,7 @@
 // `!(x > 0.0)` is deliberately true for NaN; the code relies on that to reject NaN input.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod anim;
 pub mod builtin;
 pub mod cli;
 pub mod diagnostic;

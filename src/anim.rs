@@ -1,0 +1,12 @@
+//! Character animation (seed 000 §3.2, seed 002 §4.1; DESIGN.md §3): skeletons and clips, BVH
+//! files, the built-in 22-DOF actor and its procedural walk clips, the animation database of
+//! foot-plant intervals with K nearest neighbours, transitions, the SARSA-trained interval
+//! policy, and the animated body that drives the simulator with root motion.
+//!
+//! Pure core: nothing here does IO except through the caller's strings and bytes.
+
+pub mod clip;
+pub mod skeleton;
+
+pub use clip::{Clip, Ground, mirror_pairs, mirror_rotation};
+pub use skeleton::{Channel, Joint, Pose, Skeleton, SkeletonError, angle_between, heading, slerp};
