@@ -5,8 +5,15 @@
 //!
 //! Pure core: nothing here does IO except through the caller's strings and bytes.
 
+pub mod actor;
+pub mod bvh;
 pub mod clip;
+pub mod db;
+pub mod player;
+pub mod policy;
+pub mod procedural;
 pub mod skeleton;
 
 pub use clip::{Clip, Ground, mirror_pairs, mirror_rotation};
+pub use db::{Database, DbError, DbParams, IntervalSpec};
 pub use skeleton::{Channel, Joint, Pose, Skeleton, SkeletonError, angle_between, heading, slerp};

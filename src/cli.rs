@@ -3,6 +3,7 @@
 //! 1 a failed task or check, 2 a usage, file or script error. A closed stdout pipe is not an
 //! error.
 
+pub mod anim;
 pub mod experiment;
 pub mod fuzzy;
 pub mod render;
@@ -43,6 +44,14 @@ pub enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Watch, step and drive a navigation run live in the terminal.
     Tui(tui::TuiArgs),
+    /// Animation databases: build from BVH, describe, export the built-in clips.
+    Db {
+        /// The database subcommand.
+        #[command(subcommand)]
+        command: anim::DbCommand,
+    },
+    /// Train the RL animation controller's policy (SARSA) on a database.
+    Train(anim::TrainArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -87,6 +96,8 @@ pub fn main() -> ExitCode {
         Some(Command::Render(args)) => render::render(args),
         Some(Command::Experiment(args)) => experiment::run(args),
         Some(Command::Tui(args)) => tui::run(args),
+        Some(Command::Db { command }) => anim::db(command),
+        Some(Command::Train(args)) => anim::train(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

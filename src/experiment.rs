@@ -42,6 +42,28 @@ pub struct EpisodeRecord {
     pub stalls: u32,
     /// Times boundary following started.
     pub boundary_follows: u32,
+    /// Animated body only: mean horizontal slide of contact feet, centimetres per 60 Hz frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub foot_skating_cm_per_frame: Option<f64>,
+    /// Animated body only: mean pose distance (Eq. 1) at transitions between intervals.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transition_cost: Option<f64>,
+    /// Animated body only: transitions (switches to other than the clip's next interval).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transitions: Option<u64>,
+    /// Animated body only: largest joint jerk within 0.25 s of a transition, m/s³.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_switch_jerk_mps3: Option<f64>,
+    /// Animated body only: RMS distance between the commanded path (commands integrated from
+    /// the root at each switch point) and the root path, metres.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tracking_rms_m: Option<f64>,
+    /// Animated body only: RMS difference between the commanded heading and the heading, degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub heading_rms_deg: Option<f64>,
+    /// Animated body only: RMS difference between the commanded and the actual speed, m/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_rms_mps: Option<f64>,
 }
 
 /// Aggregate figures of a batch.
@@ -92,6 +114,9 @@ pub fn run_episode(
     let agent = &sim.agents[0];
     let m = agent.metrics;
     let reached = agent.outcome == Some(Outcome::Reached);
+    let animated = agent.body.animated();
+    let playback = animated.map(|a| a.metrics());
+    let tracking = animated.map(|a| a.tracking);
     let record = EpisodeRecord {
         episode,
         scenario: scenario.name.clone(),
@@ -106,6 +131,13 @@ pub fn run_episode(
         min_clearance_m: m.min_clearance_m,
         stalls: m.blocked_steps,
         boundary_follows: m.follows,
+        foot_skating_cm_per_frame: playback.map(|p| p.foot_skating_cm_per_frame()),
+        transition_cost: playback.map(|p| p.mean_transition_cost()),
+        transitions: playback.map(|p| p.transitions),
+        peak_switch_jerk_mps3: playback.map(|p| p.peak_switch_jerk),
+        tracking_rms_m: tracking.map(|t| t.rms_path_m()),
+        heading_rms_deg: tracking.map(|t| t.rms_direction().to_degrees()),
+        speed_rms_mps: tracking.map(|t| t.rms_speed()),
     };
     Episode { record, trail: agent.trail.clone() }
 }

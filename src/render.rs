@@ -9,5 +9,6 @@
 pub mod font;
 pub mod plot;
 pub mod png;
+pub mod poses;
 pub mod scene;
 pub mod sim_view;

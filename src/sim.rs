@@ -6,11 +6,13 @@
 //! global RNG, no hash-order dependence, so the same scenario, rules and seed give the same
 //! trajectory bit for bit. Several agents may share a world; each sees the others as discs.
 
+pub mod animated;
 pub mod body;
 pub mod controller;
 
 use glam::DVec2;
 
+pub use animated::{AnimatedBody, Animation, AnimationHandle, Tracking, TrackingFigures, measure_tracking};
 pub use body::{Body, Command, DiscLimits, KinematicDisc, StepOutcome};
 pub use controller::{ControllerParams, LayeredController, Mode, Side};
 
@@ -27,8 +29,12 @@ pub struct StepParameters {
     pub scan_every: usize,
     /// Sensor sectors and range (right, front, left; 5 m).
     pub layout: SectorLayout,
-    /// Limits of each agent's disc body (see [`DiscLimits`]).
+    /// Limits of each agent's disc body (see [`DiscLimits`]); the radius applies to animated
+    /// bodies too.
     pub limits: DiscLimits,
+    /// When set, agents are animated characters driven by this database and policy instead of
+    /// kinematic discs (none).
+    pub animation: Option<AnimationHandle>,
 }
 
 impl Default for StepParameters {
@@ -39,6 +45,7 @@ impl Default for StepParameters {
             scan_every: 4,
             layout: SectorLayout::three(),
             limits: DiscLimits::default(),
+            animation: None,
         }
     }
 }
@@ -73,7 +80,7 @@ pub struct Metrics {
 #[derive(Debug, Clone)]
 pub struct Agent {
     /// The body.
-    pub body: KinematicDisc,
+    pub body: AgentBody,
     /// The navigation controller.
     pub controller: LayeredController,
     /// The task.
@@ -103,6 +110,55 @@ pub struct Agent {
     scan: Vec<f64>,
 }
 
+/// An agent's body: a kinematic disc or an animated character.
+#[derive(Debug, Clone)]
+pub enum AgentBody {
+    /// Kinematic disc.
+    Disc(KinematicDisc),
+    /// Character driven by the animation database.
+    Animated(Box<AnimatedBody>),
+}
+
+impl AgentBody {
+    /// The animated character, if this is one.
+    pub fn animated(&self) -> Option<&AnimatedBody> {
+        match self {
+            AgentBody::Animated(a) => Some(a),
+            AgentBody::Disc(_) => None,
+        }
+    }
+}
+
+impl Body for AgentBody {
+    fn pose(&self) -> crate::world::Pose {
+        match self {
+            AgentBody::Disc(d) => d.pose(),
+            AgentBody::Animated(a) => a.pose(),
+        }
+    }
+
+    fn speed(&self) -> f64 {
+        match self {
+            AgentBody::Disc(d) => d.speed(),
+            AgentBody::Animated(a) => a.speed(),
+        }
+    }
+
+    fn radius(&self) -> f64 {
+        match self {
+            AgentBody::Disc(d) => d.radius(),
+            AgentBody::Animated(a) => a.radius(),
+        }
+    }
+
+    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome {
+        match self {
+            AgentBody::Disc(d) => d.step(command, dt, free),
+            AgentBody::Animated(a) => a.step(command, dt, free),
+        }
+    }
+}
+
 /// A world with agents, stepped at a fixed rate.
 #[derive(Debug, Clone)]
 pub struct Simulation {
@@ -126,7 +182,12 @@ impl Simulation {
 
     /// Adds an agent at the task's start with its own copy of `controller`.
     pub fn add_agent(&mut self, task: Task, controller: &LayeredController) {
-        let body = KinematicDisc::new(task.start, self.params.limits);
+        let body = match &self.params.animation {
+            None => AgentBody::Disc(KinematicDisc::new(task.start, self.params.limits)),
+            Some(a) => {
+                AgentBody::Animated(Box::new(AnimatedBody::new(a.0.clone(), task.start, self.params.limits.radius)))
+            }
+        };
         let mut controller = controller.clone();
         controller.reset();
         let clearance = self.world.clearance(task.start.position, self.params.layout.range, &mut self.scratch)

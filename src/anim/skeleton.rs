@@ -138,6 +138,26 @@ impl Skeleton {
         l
     }
 
+    /// Reach of each joint: the largest bind-pose distance from it to a descendant joint or end
+    /// site, metres.
+    pub fn reaches(&self) -> Vec<f64> {
+        let p = self.positions(&self.bind_pose());
+        let mut globals = Vec::with_capacity(self.len());
+        self.globals(&self.bind_pose(), &mut globals);
+        let mut r = vec![0.0f64; self.len()];
+        for i in (0..self.len()).rev() {
+            let tip = self.tip(&globals, i);
+            r[i] = r[i].max(tip.distance(p[i]));
+            // Walk up: every ancestor reaches this joint's tip too.
+            let mut a = self.joints[i].parent;
+            while let Some(k) = a {
+                r[k] = r[k].max(tip.distance(p[k])).max(p[i].distance(p[k]));
+                a = self.joints[k].parent;
+            }
+        }
+        r
+    }
+
     /// The bind pose: root at `offset` of joint 0, every rotation identity.
     pub fn bind_pose(&self) -> Pose {
         Pose { root: self.joints[0].offset, rotations: vec![DQuat::IDENTITY; self.joints.len()] }

@@ -9,9 +9,10 @@ use clap::Args;
 
 use super::run::{MapArgs, jobs, load_controller, load_map};
 use super::{Outcome, parse_size, write_atomic};
-use crate::render::png::{encode, render_png};
-use crate::render::sim_view::scene_of;
-use crate::sim::{Simulation, StepParameters};
+use crate::render::png::{PngPainter, encode, render_png};
+use crate::render::poses::draw_strip;
+use crate::render::sim_view::{scene_of, strip_pose_of};
+use crate::sim::{Body, Simulation, StepParameters};
 
 /// `strider render` options.
 #[derive(Debug, Args)]
@@ -31,7 +32,17 @@ pub struct RenderArgs {
     /// Which episode of the matching `strider run` to render (same map, seed and numbering).
     #[arg(long, default_value_t = 0)]
     pub episode: usize,
+    /// Agent body.
+    #[command(flatten)]
+    pub body: super::anim::BodyArgs,
+    /// Also write `poses.png`: a side-view strip of the animated character's skeleton, one pose
+    /// every 0.25 s over the first 16 samples.
+    #[arg(long)]
+    pub poses: bool,
 }
+
+/// Poses in the side-view strip.
+const POSES: usize = 16;
 
 /// `strider render`.
 pub fn render(args: RenderArgs) -> Outcome {
@@ -40,7 +51,8 @@ pub fn render(args: RenderArgs) -> Outcome {
     let job =
         jobs(&source, Some(args.episode + 1), args.map.seed)?.pop().ok_or_else(|| anyhow!("no episode to render"))?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
-    let mut params = StepParameters::default();
+    let mut params =
+        StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
     params.limits.radius = job.scenario.agent_radius;
     let mut sim = Simulation::new(job.scenario.world(), params);
     sim.add_agent(job.scenario.tasks[job.task], &controller);
@@ -57,14 +69,35 @@ pub fn render(args: RenderArgs) -> Outcome {
         Ok(())
     };
     let mut step = 0usize;
+    let mut strip = Vec::new();
+    let per_pose = (0.25 / sim.params.dt_s).round().max(1.0) as usize;
     while !sim.all_done() {
         if args.every > 0 && step.is_multiple_of(args.every) {
             save(&sim, format!("frame_{step:06}.png"))?;
+        }
+        let moving = sim.agents[0].body.speed() > 0.05 || !strip.is_empty();
+        if args.poses
+            && moving
+            && step.is_multiple_of(per_pose)
+            && strip.len() < POSES
+            && let Some(b) = sim.agents[0].body.animated()
+        {
+            strip.push(strip_pose_of(b, format!("{:.2} s", sim.time_s)));
         }
         sim.step();
         step += 1;
     }
     save(&sim, "final.png".to_string())?;
+    if args.poses {
+        if strip.is_empty() {
+            return Err(anyhow!("--poses needs the animated body").into());
+        }
+        let mut painter = PngPainter::new(1600, 320);
+        draw_strip(&strip, &mut painter);
+        let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
+        let path = args.out.join("poses.png");
+        write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
+    }
     let a = &sim.agents[0];
     eprintln!(
         "{frames} frame(s) in {}: {} after {:.2} s, path {:.2} m",

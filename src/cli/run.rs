@@ -59,6 +59,9 @@ pub struct RunArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Agent body.
+    #[command(flatten)]
+    pub body: super::anim::BodyArgs,
 }
 
 /// Data formats of `strider run`.
@@ -155,7 +158,7 @@ pub fn run(args: RunArgs) -> Outcome {
     let source = load_map(&args.map.map, args.map.scen.as_deref())?;
     let controller = load_controller(args.map.rules.as_deref())?;
     let jobs = jobs(&source, args.episodes, args.map.seed)?;
-    let params = StepParameters::default();
+    let params = StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
     let bar = if jobs.len() > 1 && io::stderr().is_terminal() {
         let b = indicatif::ProgressBar::new(jobs.len() as u64);
         b.set_style(
@@ -204,12 +207,12 @@ fn opt(x: Option<f64>) -> String {
 fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> {
     writeln!(
         out,
-        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows"
+        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m"
     )?;
     for r in records {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.episode,
             r.scenario,
             r.task,
@@ -222,7 +225,10 @@ fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> 
             opt(r.path_ratio),
             r.min_clearance_m,
             r.stalls,
-            r.boundary_follows
+            r.boundary_follows,
+            opt(r.foot_skating_cm_per_frame),
+            opt(r.transition_cost),
+            opt(r.tracking_rms_m)
         )?;
     }
     Ok(())
@@ -255,7 +261,10 @@ pub fn default_scenario() -> Outcome {
     let scenario = map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log)?;
     let controller = load_controller(None)?;
     let world = scenario.world();
-    let mut params = StepParameters::default();
+    let mut params = StepParameters {
+        animation: super::anim::load_animation(&super::anim::BodyArgs::default())?,
+        ..StepParameters::default()
+    };
     params.limits.radius = scenario.agent_radius;
     let e = experiment::run_episode(&scenario, &world, 0, &controller, &params, 0, 0);
     let r = &e.record;

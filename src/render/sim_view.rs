@@ -1,8 +1,14 @@
 //! What a running simulation looks like as a [`Scene`]: the one conversion used by PNG frames
 //! and the terminal view, so both show the same thing.
 
+use glam::DVec2;
+
+use super::poses::StripPose;
 use super::scene::{AgentView, Scene};
-use crate::sim::{Body, Simulation};
+use crate::sim::{AnimatedBody, Body, Simulation};
+
+/// How far ahead of the foot joint (ankle) a drawn footprint's centre lies, metres.
+const FOOT_CENTRE_AHEAD_M: f64 = 0.07;
 
 /// The scene of `sim` now: obstacles, goals, and every agent with trail and sensor sectors.
 pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
@@ -20,11 +26,47 @@ pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
                 radius: a.body.radius(),
                 trail: a.trail.clone(),
                 sectors,
-                footprints: Vec::new(),
+                footprints: a.body.animated().map_or_else(Vec::new, |b| {
+                    b.player()
+                        .footprints
+                        .iter()
+                        .map(|f| (DVec2::new(f.x, f.y) + DVec2::from_angle(f.yaw) * FOOT_CENTRE_AHEAD_M, f.yaw))
+                        .collect()
+                }),
                 label: None,
             }
         })
         .collect();
     let goals = sim.agents.iter().map(|a| (a.task.goal, a.task.goal_radius)).collect();
     Scene { world: &sim.world, agents, goals, view: None, caption }
+}
+
+/// The animated character's current pose for the side-view strip, in its ground frame.
+pub fn strip_pose_of(body: &AnimatedBody, caption: String) -> StripPose {
+    let db = &body.animation().db;
+    let mut pose = body.player().pose().clone();
+    body.player().ground().transform_pose(&mut pose, true);
+    let mut globals = Vec::new();
+    db.skeleton.globals(&pose, &mut globals);
+    let joints = db.skeleton.joints();
+    let side = |name: &str| -> i8 {
+        let n = name.to_ascii_lowercase();
+        if n.contains("left") || name.starts_with('L') && name.chars().nth(1).is_some_and(char::is_uppercase) {
+            1
+        } else if n.contains("right") || name.starts_with('R') && name.chars().nth(1).is_some_and(char::is_uppercase) {
+            -1
+        } else {
+            0
+        }
+    };
+    StripPose {
+        joints: globals.iter().map(|g| g.0).collect(),
+        tips: (0..joints.len())
+            .filter(|&i| joints[i].end_site.is_some())
+            .map(|i| (i, db.skeleton.tip(&globals, i)))
+            .collect(),
+        parents: joints.iter().map(|j| j.parent).collect(),
+        sides: joints.iter().map(|j| side(&j.name)).collect(),
+        caption,
+    }
 }

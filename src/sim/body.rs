@@ -104,33 +104,50 @@ impl Body for KinematicDisc {
         if distance <= 0.0 {
             return StepOutcome::default();
         }
-        // Straight ahead if possible; else slide: the same step turned a little to either side
-        // (smallest turn first, left before right), then shorter steps straight ahead.
-        for (k, turn_deg) in [0.0f64, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0].into_iter().enumerate() {
-            let dir = DVec2::from_angle(self.pose.yaw + turn_deg.to_radians());
-            let next = self.pose.position + dir * distance;
-            if free(next) {
+        match slide(self.pose.position, self.pose.yaw, distance, free) {
+            Some((next, moved, turn)) => {
                 self.pose.position = next;
-                if k > 0 {
-                    // Sliding keeps only the component along the heading.
-                    self.speed *= turn_deg.to_radians().cos();
+                // Sliding keeps only the component along the heading.
+                if turn != 0.0 {
+                    self.speed *= turn.cos();
                 }
-                return StepOutcome { moved_m: distance, blocked: k > 0 };
+                StepOutcome { moved_m: moved, blocked: turn != 0.0 || moved < distance }
+            }
+            None => {
+                self.speed = 0.0;
+                StepOutcome { moved_m: 0.0, blocked: true }
             }
         }
-        let dir = DVec2::from_angle(self.pose.yaw);
-        let mut step = distance * 0.5;
-        for _ in 0..4 {
-            let next = self.pose.position + dir * step;
-            if free(next) {
-                self.pose.position = next;
-                return StepOutcome { moved_m: step, blocked: true };
-            }
-            step *= 0.5;
-        }
-        self.speed = 0.0;
-        StepOutcome { moved_m: 0.0, blocked: true }
     }
+}
+
+/// Where a body at `from` may go instead of `distance` along `heading`: that step if its end is
+/// free; else the same step turned 15°, 30°, 45°, 60° to either side (smallest turn first, left
+/// before right); else the straight step halved up to four times. Returns the end point, the
+/// distance moved and the turn used (radians), or `None` when every try is blocked.
+pub fn slide(
+    from: DVec2,
+    heading: f64,
+    distance: f64,
+    free: &mut dyn FnMut(DVec2) -> bool,
+) -> Option<(DVec2, f64, f64)> {
+    for turn_deg in [0.0f64, 15.0, -15.0, 30.0, -30.0, 45.0, -45.0, 60.0, -60.0] {
+        let turn = turn_deg.to_radians();
+        let next = from + DVec2::from_angle(heading + turn) * distance;
+        if free(next) {
+            return Some((next, distance, turn));
+        }
+    }
+    let dir = DVec2::from_angle(heading);
+    let mut step = distance * 0.5;
+    for _ in 0..4 {
+        let next = from + dir * step;
+        if free(next) {
+            return Some((next, step, 0.0));
+        }
+        step *= 0.5;
+    }
+    None
 }
 
 #[cfg(test)]

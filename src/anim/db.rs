@@ -1,0 +1,873 @@
+//! The animation database (seed 000 §3.2, §3.2.1; DESIGN.md §3): clips cut into intervals that
+//! begin and end at foot plants, the pose distance of Eq. 1, the interval distance of Eq. 2, the
+//! K nearest neighbours of every interval with the weights of Eq. 3, and the candidates at each
+//! switch point (the natural successor and its neighbours).
+//!
+//! Intervals are found from foot contacts (foot height and speed) or given by hand. Each
+//! interval is resampled at `n + 1` normalized times in its own frame — start on the origin,
+//! facing +X — so comparing two intervals is a flat loop over precomputed samples.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::clip::{Clip, Ground};
+use super::skeleton::{Pose, Skeleton, angle_between};
+
+/// Parameters of the database. Every field documents its default.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DbParams {
+    /// Neighbours per interval, K (6).
+    pub k: usize,
+    /// Normalized time samples per interval for Eq. 2 are `n + 1` (n = 10).
+    pub samples: usize,
+    /// Joint weights of Eq. 1.
+    pub weights: WeightParams,
+    /// Foot contact detection.
+    pub contacts: ContactParams,
+    /// Shortest interval kept, seconds (0.15): plants closer than this are merged.
+    pub min_interval_s: f64,
+    /// Longest interval, seconds (1.0): longer stretches without a plant (standing) are split.
+    pub max_interval_s: f64,
+    /// Most neighbours taken from one clip (1), so near-copies of one motion (the steps of a
+    /// cyclic clip) do not crowd out the alternatives; when the clips cannot fill K this way,
+    /// the nearest remaining intervals fill the list.
+    pub max_per_clip: usize,
+}
+
+impl Default for DbParams {
+    fn default() -> Self {
+        DbParams {
+            k: 6,
+            samples: 10,
+            weights: WeightParams::default(),
+            contacts: ContactParams::default(),
+            min_interval_s: 0.15,
+            max_interval_s: 1.0,
+            max_per_clip: 1,
+        }
+    }
+}
+
+/// How Eq. 1 weighs joints: `w_i = depth_decay^depth · (1 + length_gain · ℓ_i / ℓ_max)`, with `ℓ_i`
+/// the reach of joint `i` (the farthest bind-pose point its rotation swings: descendants and end
+/// sites); joints high in the hierarchy and long bones weigh more. Joints without rotation channels weigh nothing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightParams {
+    /// Weight of the root position term, per square metre (4).
+    pub root_position: f64,
+    /// Factor per level of depth (0.8).
+    pub depth_decay: f64,
+    /// Gain of the bone-length term (1).
+    pub length_gain: f64,
+    /// Explicit weights by joint name, replacing the computed ones.
+    pub overrides: Vec<(String, f64)>,
+}
+
+impl Default for WeightParams {
+    fn default() -> Self {
+        WeightParams { root_position: 4.0, depth_decay: 0.8, length_gain: 1.0, overrides: Vec::new() }
+    }
+}
+
+impl WeightParams {
+    /// The weight of every joint of `skeleton`.
+    pub fn joint_weights(&self, skeleton: &Skeleton) -> Vec<f64> {
+        let depth = skeleton.depths();
+        let len = skeleton.reaches();
+        let lmax = len.iter().cloned().fold(0.0, f64::max).max(1e-9);
+        skeleton
+            .joints()
+            .iter()
+            .enumerate()
+            .map(|(i, j)| {
+                if let Some((_, w)) = self.overrides.iter().find(|(n, _)| *n == j.name) {
+                    return *w;
+                }
+                let rotates = i == 0 || j.channels.iter().any(|c| !c.is_position());
+                if !rotates {
+                    return 0.0;
+                }
+                self.depth_decay.powi(depth[i] as i32) * (1.0 + self.length_gain * len[i] / lmax)
+            })
+            .collect()
+    }
+}
+
+/// Foot contact detection: a foot is on the ground while its height above its lowest point in
+/// the clip is below `height_m` and its horizontal speed below `speed_mps`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactParams {
+    /// Height threshold, metres (0.03).
+    pub height_m: f64,
+    /// Speed threshold, metres per second (0.25).
+    pub speed_mps: f64,
+    /// Contacts or gaps shorter than this many frames are ignored (3).
+    pub min_frames: usize,
+    /// Names of the two foot joints (left, right); when empty, found by name
+    /// (`LeftFoot`/`RightFoot`, `LeftAnkle`/`RightAnkle`, `l_foot`/`r_foot` …).
+    pub feet: Vec<String>,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        ContactParams { height_m: 0.03, speed_mps: 0.25, min_frames: 3, feet: Vec::new() }
+    }
+}
+
+/// Why a database cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DbError {
+    /// No clips.
+    #[error("the database has no clips")]
+    NoClips,
+    /// Clips with different skeletons.
+    #[error("clip '{0}' has a different skeleton from the first clip")]
+    SkeletonMismatch(String),
+    /// The feet could not be found.
+    #[error("cannot find the foot joints (tried {0}); name them explicitly")]
+    NoFeet(String),
+    /// A clip frame has the wrong number of rotations or non-finite values.
+    #[error("clip '{0}' frame {1} is malformed")]
+    BadFrame(String, usize),
+    /// A hand-written interval is outside its clip.
+    #[error("interval {0} of clip '{1}' ({2}..{3}) is outside the clip or empty")]
+    BadInterval(usize, String, usize, usize),
+    /// A hand-written interval names an unknown clip.
+    #[error("interval {0} names unknown clip '{1}'")]
+    UnknownClip(usize, String),
+    /// Fewer intervals than needed for the neighbour search.
+    #[error("found {0} intervals; at least {1} (K + 1) are needed")]
+    TooFewIntervals(usize, usize),
+    /// Frame time not positive.
+    #[error("clip '{0}' has a non-positive frame time")]
+    FrameTime(String),
+}
+
+/// A hand-written interval: frames `start..=end` of the clip named `clip`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IntervalSpec {
+    /// Clip name.
+    pub clip: String,
+    /// First frame.
+    pub start: usize,
+    /// Last frame.
+    pub end: usize,
+}
+
+/// One interval: frames `start..=end` of a clip, from foot plant to foot plant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Interval {
+    /// Index of the clip.
+    pub clip: usize,
+    /// First frame.
+    pub start: usize,
+    /// Last frame.
+    pub end: usize,
+    /// Duration, seconds.
+    pub duration: f64,
+    /// The ground reference at the end relative to the one at the start (root motion).
+    pub motion: Ground,
+    /// Mean horizontal root speed, metres per second.
+    pub speed: f64,
+    /// Which foot plants at the start (0 left, 1 right; 2 both or unknown).
+    pub foot: u8,
+}
+
+impl Interval {
+    /// Heading change over the interval, radians.
+    pub fn turn(&self) -> f64 {
+        self.motion.yaw
+    }
+}
+
+/// A choice at a switch point: an interval and its neighbour weight (Eq. 3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Candidate {
+    /// Interval index.
+    pub interval: usize,
+    /// Weight `w_a` among the candidates, summing to 1.
+    pub weight: f64,
+    /// Interval distance (Eq. 2) from the natural successor (0 for the successor itself).
+    pub distance: f64,
+}
+
+/// The animation database.
+#[derive(Debug, Clone)]
+pub struct Database {
+    /// The skeleton shared by every clip.
+    pub skeleton: Skeleton,
+    /// The clips.
+    pub clips: Vec<Clip>,
+    /// The intervals, clip by clip in time order.
+    pub intervals: Vec<Interval>,
+    /// The K nearest neighbours of every interval with their distances, nearest first.
+    pub neighbours: Vec<Vec<(usize, f64)>>,
+    /// The natural successor of every interval: the next interval of its clip, or the interval
+    /// whose start pose is nearest to its end pose when the clip ends there.
+    pub successor: Vec<usize>,
+    /// Candidates at the end of every interval: its successor first, then the successor's
+    /// neighbours.
+    pub candidates: Vec<Vec<Candidate>>,
+    /// The joint weights of Eq. 1.
+    pub joint_weights: Vec<f64>,
+    /// The foot joints (left, right).
+    pub feet: [usize; 2],
+    /// Lowest height of each foot joint over the database, metres (its height when planted).
+    pub foot_floor: [f64; 2],
+    /// The ε of Eq. 3.
+    pub epsilon: f64,
+    /// Parameters it was built with.
+    pub params: DbParams,
+    /// Heading of the root's forward axis in the bind pose, radians.
+    pub forward_offset: f64,
+    samples: Vec<Vec<Pose>>,
+}
+
+/// Finds the left and right foot joints by name.
+pub fn find_feet(skeleton: &Skeleton, names: &[String]) -> Result<[usize; 2], DbError> {
+    if names.len() == 2 {
+        return match (skeleton.find(&names[0]), skeleton.find(&names[1])) {
+            (Some(l), Some(r)) => Ok([l, r]),
+            _ => Err(DbError::NoFeet(names.join(", "))),
+        };
+    }
+    const PAIRS: [(&str, &str); 5] = [
+        ("LeftFoot", "RightFoot"),
+        ("LeftAnkle", "RightAnkle"),
+        ("l_foot", "r_foot"),
+        ("lfoot", "rfoot"),
+        ("L_Foot", "R_Foot"),
+    ];
+    for (l, r) in PAIRS {
+        let find = |n: &str| skeleton.joints().iter().position(|j| j.name.eq_ignore_ascii_case(n));
+        if let (Some(l), Some(r)) = (find(l), find(r)) {
+            return Ok([l, r]);
+        }
+    }
+    Err(DbError::NoFeet(PAIRS.iter().map(|(l, r)| format!("{l}/{r}")).collect::<Vec<_>>().join(", ")))
+}
+
+/// Heading of the root's forward axis in the bind pose: perpendicular to the line from the
+/// right foot's hip to the left's, so a character standing with its left side toward +Y faces
+/// +X (0).
+pub fn forward_offset(skeleton: &Skeleton, feet: [usize; 2]) -> f64 {
+    let p = skeleton.positions(&skeleton.bind_pose());
+    let lateral = p[feet[0]] - p[feet[1]];
+    let f = lateral.cross(DVec3::Z);
+    if f.x.abs() + f.y.abs() < 1e-9 { 0.0 } else { f.y.atan2(f.x) }
+}
+
+/// Foot contacts of a clip: `contacts[foot][frame]`.
+pub fn detect_contacts(skeleton: &Skeleton, clip: &Clip, feet: [usize; 2], params: &ContactParams) -> [Vec<bool>; 2] {
+    let mut globals = Vec::new();
+    let mut pos: [Vec<DVec3>; 2] = [Vec::new(), Vec::new()];
+    for frame in &clip.frames {
+        skeleton.globals(frame, &mut globals);
+        for f in 0..2 {
+            pos[f].push(globals[feet[f]].0);
+        }
+    }
+    let n = clip.frames.len();
+    let mut out = [vec![false; n], vec![false; n]];
+    for f in 0..2 {
+        let floor = pos[f].iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+        for i in 0..n {
+            let (a, b) = if i == 0 { (0, 1.min(n - 1)) } else { (i - 1, i) };
+            let d = pos[f][b] - pos[f][a];
+            let speed = (d.x * d.x + d.y * d.y).sqrt() / clip.frame_time;
+            out[f][i] = pos[f][i].z - floor < params.height_m && speed < params.speed_mps;
+        }
+        // Drop short gaps, then short contacts.
+        fill_runs(&mut out[f], false, params.min_frames);
+        fill_runs(&mut out[f], true, params.min_frames);
+    }
+    out
+}
+
+/// Flips interior runs of `value` shorter than `min` frames.
+fn fill_runs(v: &mut [bool], value: bool, min: usize) {
+    let n = v.len();
+    let mut i = 0;
+    while i < n {
+        if v[i] != value {
+            i += 1;
+            continue;
+        }
+        let s = i;
+        while i < n && v[i] == value {
+            i += 1;
+        }
+        if s > 0 && i < n && i - s < min {
+            v[s..i].iter_mut().for_each(|x| *x = !value);
+        }
+    }
+}
+
+/// Cuts a clip into intervals at foot plants: the first frame when a foot is down there, every
+/// frame a foot touches down, and the last frame when a foot is down there; stretches longer
+/// than `max_frames` are split evenly and boundaries closer than `min_frames` merged.
+pub fn plant_boundaries(contacts: &[Vec<bool>; 2], min_frames: usize, max_frames: usize) -> Vec<(usize, u8)> {
+    let n = contacts[0].len();
+    if n < 2 {
+        return Vec::new();
+    }
+    let mut raw: Vec<(usize, u8)> = Vec::new();
+    for i in 0..n {
+        let touch = |f: usize| contacts[f][i] && (i == 0 || !contacts[f][i - 1]);
+        let down = |f: usize| contacts[f][i];
+        let foot = match (touch(0), touch(1)) {
+            (true, false) => Some(0),
+            (false, true) => Some(1),
+            (true, true) => Some(2),
+            _ if (i == n - 1) && (down(0) || down(1)) => Some(2),
+            _ => None,
+        };
+        if let Some(f) = foot {
+            raw.push((i, f));
+        }
+    }
+    let mut kept: Vec<(usize, u8)> = Vec::new();
+    for (i, f) in raw {
+        match kept.last() {
+            None => kept.push((i, f)),
+            Some(&(last, _)) if i - last >= min_frames.max(1) => kept.push((i, f)),
+            Some(_) if i == n - 1 && kept.len() > 1 => {
+                // Keep the clip's end as a boundary: it joins the clip to its continuation.
+                kept.pop();
+                if kept.last().is_none_or(|&(l, _)| i - l >= min_frames.max(1)) {
+                    kept.push((i, f));
+                }
+            }
+            Some(_) => {}
+        }
+    }
+    let mut out = Vec::new();
+    for w in kept.windows(2) {
+        out.push(w[0]);
+        let (a, b) = (w[0].0, w[1].0);
+        let parts = (b - a).div_ceil(max_frames.max(1));
+        for p in 1..parts {
+            out.push((a + (b - a) * p / parts, 2));
+        }
+    }
+    if let Some(&l) = kept.last() {
+        out.push(l);
+    }
+    out
+}
+
+impl Database {
+    /// Builds a database: finds intervals (or takes `manual` ones), samples them, finds the K
+    /// nearest neighbours of each (in parallel; the result does not depend on the number of
+    /// threads) and the candidates at each switch point.
+    pub fn build(
+        clips: Vec<Clip>,
+        skeleton: Skeleton,
+        params: DbParams,
+        manual: Option<&[IntervalSpec]>,
+    ) -> Result<Database, DbError> {
+        if clips.is_empty() {
+            return Err(DbError::NoClips);
+        }
+        for c in &clips {
+            if !(c.frame_time > 0.0) || !c.frame_time.is_finite() {
+                return Err(DbError::FrameTime(c.name.clone()));
+            }
+            for (i, f) in c.frames.iter().enumerate() {
+                if f.rotations.len() != skeleton.len()
+                    || !f.root.is_finite()
+                    || f.rotations.iter().any(|q| !q.is_finite())
+                {
+                    return Err(DbError::BadFrame(c.name.clone(), i));
+                }
+            }
+        }
+        let feet = find_feet(&skeleton, &params.contacts.feet)?;
+        let forward = forward_offset(&skeleton, feet);
+        let mut spans: Vec<(usize, usize, usize, u8)> = Vec::new();
+        match manual {
+            Some(list) => {
+                for (k, s) in list.iter().enumerate() {
+                    let ci = clips
+                        .iter()
+                        .position(|c| c.name == s.clip)
+                        .ok_or_else(|| DbError::UnknownClip(k + 1, s.clip.clone()))?;
+                    if s.end <= s.start || s.end >= clips[ci].frames.len() {
+                        return Err(DbError::BadInterval(k + 1, s.clip.clone(), s.start, s.end));
+                    }
+                    spans.push((ci, s.start, s.end, 2));
+                }
+            }
+            None => {
+                for (ci, c) in clips.iter().enumerate() {
+                    let contacts = detect_contacts(&skeleton, c, feet, &params.contacts);
+                    let min = (params.min_interval_s / c.frame_time).round() as usize;
+                    let max = (params.max_interval_s / c.frame_time).round() as usize;
+                    let b = plant_boundaries(&contacts, min, max);
+                    for w in b.windows(2) {
+                        spans.push((ci, w[0].0, w[1].0, w[0].1));
+                    }
+                }
+            }
+        }
+        if spans.len() < params.k + 1 {
+            return Err(DbError::TooFewIntervals(spans.len(), params.k + 1));
+        }
+        let mut globals = Vec::new();
+        let mut floor = [f64::INFINITY; 2];
+        for c in &clips {
+            for f in &c.frames {
+                skeleton.globals(f, &mut globals);
+                for k in 0..2 {
+                    floor[k] = floor[k].min(globals[feet[k]].0.z);
+                }
+            }
+        }
+        let n = params.samples.max(1);
+        let mut intervals = Vec::with_capacity(spans.len());
+        let mut samples = Vec::with_capacity(spans.len());
+        for &(ci, s, e, foot) in &spans {
+            let c = &clips[ci];
+            let g0 = Ground::of(&c.frames[s], forward);
+            let g1 = Ground::of(&c.frames[e], forward);
+            let duration = (e - s) as f64 * c.frame_time;
+            let mut path = 0.0;
+            for f in s..e {
+                let (a, b) = (c.frames[f].root, c.frames[f + 1].root);
+                path += ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+            }
+            intervals.push(Interval {
+                clip: ci,
+                start: s,
+                end: e,
+                duration,
+                motion: g0.to_local(g1),
+                speed: path / duration,
+                foot,
+            });
+            samples.push(
+                (0..=n)
+                    .map(|j| {
+                        let mut p = c.sample_frame(s as f64 + (e - s) as f64 * j as f64 / n as f64);
+                        g0.transform_pose(&mut p, true);
+                        p
+                    })
+                    .collect(),
+            );
+        }
+        let joint_weights = params.weights.joint_weights(&skeleton);
+        let mut db = Database {
+            skeleton,
+            clips,
+            intervals,
+            neighbours: Vec::new(),
+            successor: Vec::new(),
+            candidates: Vec::new(),
+            joint_weights,
+            feet,
+            foot_floor: floor,
+            epsilon: 0.0,
+            params,
+            forward_offset: forward,
+            samples,
+        };
+        db.neighbours = db.nearest_neighbours();
+        db.successor = (0..db.intervals.len()).map(|i| db.natural_successor(i)).collect();
+        let mean: f64 = db.neighbours.iter().flatten().map(|&(_, d)| d).sum::<f64>()
+            / db.neighbours.iter().map(Vec::len).sum::<usize>().max(1) as f64;
+        db.epsilon = (0.5 * mean).max(1e-6);
+        db.candidates = (0..db.intervals.len()).map(|i| db.candidates_after(i)).collect();
+        Ok(db)
+    }
+
+    /// Pose distance, Eq. 1: `w_root·|r − r'|² + Σ_i w_i·θ(q_i, q'_i)²`.
+    pub fn pose_distance(&self, a: &Pose, b: &Pose) -> f64 {
+        pose_distance(&self.joint_weights, self.params.weights.root_position, a, b, f64::INFINITY)
+    }
+
+    /// Interval distance, Eq. 2: the mean of Eq. 1 over `n + 1` normalized times, both
+    /// intervals in their own frames.
+    pub fn interval_distance(&self, a: usize, b: usize) -> f64 {
+        interval_distance(
+            &self.joint_weights,
+            self.params.weights.root_position,
+            &self.samples[a],
+            &self.samples[b],
+            f64::INFINITY,
+        )
+    }
+
+    /// The `n + 1` samples of interval `i` in its own frame.
+    pub fn samples(&self, i: usize) -> &[Pose] {
+        &self.samples[i]
+    }
+
+    fn nearest_neighbours(&self) -> Vec<Vec<(usize, f64)>> {
+        let k = self.params.k;
+        let per_clip = self.params.max_per_clip.max(1);
+        let (w, wr) = (&self.joint_weights, self.params.weights.root_position);
+        (0..self.intervals.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut best = self.k_best(i, k, per_clip, w, wr);
+                if best.len() < k {
+                    // Too few clips for the per-clip limit: fill with the nearest of the rest.
+                    for (j, d) in self.k_best(i, k, usize::MAX, w, wr) {
+                        if best.len() < k && !best.iter().any(|&(b, _)| b == j) {
+                            best.push((j, d));
+                        }
+                    }
+                    best.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                }
+                best
+            })
+            .collect()
+    }
+
+    /// The `k` intervals nearest to `i` (Eq. 2), at most `per_clip` from any one clip, nearest
+    /// first (ties by index). Candidates are abandoned as soon as they cannot enter the list.
+    fn k_best(&self, i: usize, k: usize, per_clip: usize, w: &[f64], wr: f64) -> Vec<(usize, f64)> {
+        let mut best: Vec<(usize, f64)> = Vec::with_capacity(k + 1);
+        for j in 0..self.intervals.len() {
+            if j == i {
+                continue;
+            }
+            let bound = if best.len() == k { best[k - 1].1 } else { f64::INFINITY };
+            let clip = self.intervals[j].clip;
+            let same: Vec<usize> = (0..best.len()).filter(|&b| self.intervals[best[b].0].clip == clip).collect();
+            // A clip at its limit only lets in something nearer than its farthest entry.
+            let bound =
+                if same.len() >= per_clip { bound.min(best[*same.last().expect("limit ≥ 1")].1) } else { bound };
+            let d = interval_distance(w, wr, &self.samples[i], &self.samples[j], bound);
+            if d < bound {
+                if same.len() >= per_clip {
+                    best.remove(*same.last().expect("limit ≥ 1"));
+                }
+                let at = best.partition_point(|&(_, e)| e <= d);
+                best.insert(at, (j, d));
+                best.truncate(k);
+            }
+        }
+        best
+    }
+
+    fn natural_successor(&self, i: usize) -> usize {
+        let iv = &self.intervals[i];
+        if self.intervals.get(i + 1).is_some_and(|n| n.clip == iv.clip && n.start == iv.end) {
+            return i + 1;
+        }
+        // The clip ends here: continue with the interval whose start pose is nearest to this
+        // end pose (both relative to their ground reference).
+        let end = self.relative_pose(iv.clip, iv.end as f64);
+        let mut best = (usize::MAX, f64::INFINITY);
+        for j in 0..self.intervals.len() {
+            if j == i {
+                continue;
+            }
+            // The first sample of an interval is its start pose in its own frame.
+            let d = self.pose_distance(&end, &self.samples[j][0]);
+            if d < best.1 {
+                best = (j, d);
+            }
+        }
+        best.0
+    }
+
+    fn candidates_after(&self, i: usize) -> Vec<Candidate> {
+        let s = self.successor[i];
+        let mut c = vec![(s, 0.0)];
+        c.extend(self.neighbours[s].iter().copied());
+        let total: f64 = c.iter().map(|&(_, d)| 1.0 / (d + self.epsilon)).sum();
+        c.into_iter()
+            .map(|(j, d)| Candidate { interval: j, weight: 1.0 / (d + self.epsilon) / total, distance: d })
+            .collect()
+    }
+
+    /// The pose of clip `clip` at fractional frame `f`, relative to its own ground reference
+    /// (root above the origin, facing +X).
+    pub fn relative_pose(&self, clip: usize, f: f64) -> Pose {
+        let mut p = self.clips[clip].sample_frame(f);
+        Ground::of(&p, self.forward_offset).transform_pose(&mut p, true);
+        p
+    }
+
+    /// The ground reference of clip `clip` at fractional frame `f`.
+    pub fn ground(&self, clip: usize, f: f64) -> Ground {
+        Ground::of(&self.clips[clip].sample_frame(f), self.forward_offset)
+    }
+
+    /// A fingerprint of the structure (clip names and lengths, intervals, candidates) that a
+    /// trained policy depends on; FNV-1a 64.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = Fnv::default();
+        for c in &self.clips {
+            h.bytes(c.name.as_bytes());
+            h.u64(c.frames.len() as u64);
+        }
+        for (i, iv) in self.intervals.iter().enumerate() {
+            h.u64(iv.clip as u64);
+            h.u64(iv.start as u64);
+            h.u64(iv.end as u64);
+            for c in &self.candidates[i] {
+                h.u64(c.interval as u64);
+            }
+        }
+        h.0
+    }
+
+    /// Largest mean interval speed, metres per second.
+    pub fn max_speed(&self) -> f64 {
+        self.intervals.iter().map(|i| i.speed).fold(0.0, f64::max)
+    }
+}
+
+/// FNV-1a, 64 bits.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv(pub u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    /// Hashes bytes.
+    pub fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= u64::from(x);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    /// Hashes a number (little endian).
+    pub fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+}
+
+/// Eq. 1, stopping early once the sum exceeds `bound`.
+fn pose_distance(weights: &[f64], w_root: f64, a: &Pose, b: &Pose, bound: f64) -> f64 {
+    let mut d = w_root * a.root.distance_squared(b.root);
+    for ((&w, &qa), &qb) in weights.iter().zip(&a.rotations).zip(&b.rotations) {
+        if w > 0.0 {
+            let t = angle_between(qa, qb);
+            d += w * t * t;
+            if d > bound {
+                return d;
+            }
+        }
+    }
+    d
+}
+
+/// Eq. 2, stopping early (returning a value ≥ `bound`) once the mean must exceed `bound`. A
+/// cheap lower bound comes first — `θ² ≥ 8·(1 − |⟨q, q'⟩|)`, no arc cosines — so most far-apart
+/// pairs are dismissed before the exact sum.
+fn interval_distance(weights: &[f64], w_root: f64, a: &[Pose], b: &[Pose], bound: f64) -> f64 {
+    let m = a.len().min(b.len()) as f64;
+    let total_bound = bound * m;
+    if bound.is_finite() {
+        let mut lower = 0.0;
+        for (pa, pb) in a.iter().zip(b) {
+            lower += w_root * pa.root.distance_squared(pb.root);
+            for ((&w, &qa), &qb) in weights.iter().zip(&pa.rotations).zip(&pb.rotations) {
+                lower += w * 8.0 * (1.0 - qa.dot(qb).abs()).max(0.0);
+            }
+            if lower > total_bound {
+                return f64::INFINITY;
+            }
+        }
+    }
+    let mut sum = 0.0;
+    for (pa, pb) in a.iter().zip(b) {
+        sum += pose_distance(weights, w_root, pa, pb, total_bound - sum);
+        if sum > total_bound {
+            return f64::INFINITY;
+        }
+    }
+    sum / m
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::anim::skeleton::Joint;
+    use glam::DQuat;
+
+    fn skeleton() -> Skeleton {
+        let j = |n: &str, p: Option<usize>, o: DVec3| Joint {
+            name: n.into(),
+            parent: p,
+            offset: o,
+            channels: vec![crate::anim::Channel::YRotation],
+            end_site: None,
+        };
+        Skeleton::new(vec![
+            j("Hips", None, DVec3::new(0.0, 0.0, 0.9)),
+            j("LeftUpLeg", Some(0), DVec3::new(0.0, 0.1, 0.0)),
+            j("LeftFoot", Some(1), DVec3::new(0.0, 0.0, -0.85)),
+            j("RightUpLeg", Some(0), DVec3::new(0.0, -0.1, 0.0)),
+            j("RightFoot", Some(3), DVec3::new(0.0, 0.0, -0.85)),
+        ])
+        .unwrap()
+    }
+
+    /// A clip whose root moves forward at `speed` while turning at `turn` rad/s, with the legs
+    /// swinging at `phase`; both feet stay near the ground, so intervals are given by hand.
+    fn clip(name: &str, speed: f64, turn: f64, phase: f64) -> Clip {
+        let s = skeleton();
+        let frames = (0..61)
+            .map(|i| {
+                let t = i as f64 / 60.0;
+                let mut p = s.bind_pose();
+                let yaw = turn * t;
+                let d = if turn.abs() < 1e-9 {
+                    DVec3::new(speed * t, 0.0, 0.0)
+                } else {
+                    let r = speed / turn;
+                    DVec3::new(r * yaw.sin(), r * (1.0 - yaw.cos()), 0.0)
+                };
+                p.root += d;
+                p.rotations[0] = DQuat::from_rotation_z(yaw);
+                let swing = 0.4 * (std::f64::consts::TAU * t + phase).sin();
+                p.rotations[1] = DQuat::from_rotation_y(swing);
+                p.rotations[3] = DQuat::from_rotation_y(-swing);
+                p
+            })
+            .collect();
+        Clip { name: name.into(), frame_time: 1.0 / 60.0, frames }
+    }
+
+    pub(crate) fn database() -> Database {
+        let clips: Vec<Clip> = (0..8)
+            .map(|k| clip(&format!("c{k}"), 0.5 + 0.2 * k as f64, 0.1 * (k as f64 - 4.0), 0.3 * k as f64))
+            .collect();
+        let manual: Vec<IntervalSpec> = clips
+            .iter()
+            .flat_map(|c| {
+                [(0, 20), (20, 40), (40, 60)].map(|(s, e)| IntervalSpec { clip: c.name.clone(), start: s, end: e })
+            })
+            .collect();
+        Database::build(clips, skeleton(), DbParams { k: 4, ..DbParams::default() }, Some(&manual)).unwrap()
+    }
+
+    /// The intervals of `db` as a hand-written list.
+    pub(crate) fn manual(db: &Database) -> Vec<IntervalSpec> {
+        db.intervals
+            .iter()
+            .map(|i| IntervalSpec { clip: db.clips[i.clip].name.clone(), start: i.start, end: i.end })
+            .collect()
+    }
+
+    #[test]
+    fn interval_distance_is_a_symmetric_premetric() {
+        let db = database();
+        for a in 0..db.intervals.len() {
+            assert!(db.interval_distance(a, a) < 1e-12);
+            for b in 0..db.intervals.len() {
+                let (x, y) = (db.interval_distance(a, b), db.interval_distance(b, a));
+                assert!(x >= 0.0 && (x - y).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn eq1_by_hand() {
+        let db = database();
+        let s = &db.skeleton;
+        let a = s.bind_pose();
+        let mut b = s.bind_pose();
+        b.root.x += 0.5;
+        b.rotations[1] = DQuat::from_rotation_y(0.3);
+        let w = &db.joint_weights;
+        let expect = 4.0 * 0.25 + w[1] * 0.09;
+        assert!((db.pose_distance(&a, &b) - expect).abs() < 1e-12);
+        // Deeper joints and shorter bones weigh less.
+        assert!(w[0] > w[1] && w[1] > w[2]);
+    }
+
+    #[test]
+    fn neighbours_match_brute_force_and_weights_follow_eq3() {
+        let db = database();
+        let n = db.intervals.len();
+        for i in 0..n {
+            let mut all: Vec<(usize, f64)> =
+                (0..n).filter(|&j| j != i).map(|j| (j, db.interval_distance(i, j))).collect();
+            all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            // At most one per clip: the nearest of each clip, nearest first.
+            let mut want: Vec<usize> = Vec::new();
+            for &(j, _) in &all {
+                if want.len() < 4 && !want.iter().any(|&w| db.intervals[w].clip == db.intervals[j].clip) {
+                    want.push(j);
+                }
+            }
+            let got: Vec<usize> = db.neighbours[i].iter().map(|x| x.0).collect();
+            assert_eq!(got, want, "interval {i}");
+            let c = &db.candidates[i];
+            assert_eq!(c.len(), 5);
+            assert_eq!(c[0].interval, db.successor[i]);
+            let sum: f64 = c.iter().map(|c| c.weight).sum();
+            assert!((sum - 1.0).abs() < 1e-12);
+            let inv: f64 = c.iter().map(|c| 1.0 / (c.distance + db.epsilon)).sum();
+            for x in c {
+                assert!((x.weight - 1.0 / (x.distance + db.epsilon) / inv).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn successors_follow_clips_and_motion_is_measured() {
+        let db = database();
+        assert_eq!(db.successor[0], 1);
+        assert_eq!(db.successor[1], 2);
+        // The last interval of a clip continues somewhere else than itself.
+        assert_ne!(db.successor[2], 2);
+        let iv = &db.intervals[4 * 3 + 1];
+        assert!((iv.speed - 1.3).abs() < 1e-3, "{}", iv.speed);
+        assert!(iv.turn().abs() < 1e-9);
+        let turning = &db.intervals[0];
+        assert!((turning.turn() - (-0.4 / 3.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn plants_cut_intervals() {
+        let c = |s: &str| s.chars().map(|c| c == '#').collect::<Vec<bool>>();
+        let l = c("####......########......####");
+        let r = c("#######......######.....####");
+        let b = plant_boundaries(&[l, r], 2, 100);
+        let frames: Vec<usize> = b.iter().map(|x| x.0).collect();
+        // Both feet down at the start, left touches at 10, right at 13, both at 24, end at 27.
+        assert_eq!(frames, vec![0, 10, 13, 24, 27]);
+        assert_eq!(b.iter().map(|x| x.1).collect::<Vec<_>>(), vec![2, 0, 1, 2, 2]);
+        // Touchdowns closer than the minimum merge into the earlier one; the clip's end replaces
+        // a boundary too close to it.
+        let b = plant_boundaries(&[c("####......########......####"), c("#######......######.....####")], 4, 100);
+        assert_eq!(b.iter().map(|x| x.0).collect::<Vec<_>>(), vec![0, 10, 27]);
+        // Long stretches are split.
+        let all = vec![true; 31];
+        let b = plant_boundaries(&[all.clone(), all], 2, 10);
+        assert_eq!(b.iter().map(|x| x.0).collect::<Vec<_>>(), vec![0, 10, 20, 30]);
+    }
+
+    #[test]
+    fn bad_databases_are_errors() {
+        let clips = vec![clip("a", 1.0, 0.0, 0.0)];
+        let one = [IntervalSpec { clip: "a".into(), start: 0, end: 30 }];
+        assert!(matches!(
+            Database::build(clips.clone(), skeleton(), DbParams::default(), Some(&one)),
+            Err(DbError::TooFewIntervals(1, 7))
+        ));
+        let bad = [IntervalSpec { clip: "a".into(), start: 0, end: 99 }];
+        assert!(matches!(
+            Database::build(clips.clone(), skeleton(), DbParams::default(), Some(&bad)),
+            Err(DbError::BadInterval(..))
+        ));
+        let unknown = [IntervalSpec { clip: "b".into(), start: 0, end: 9 }];
+        assert!(matches!(
+            Database::build(clips, skeleton(), DbParams::default(), Some(&unknown)),
+            Err(DbError::UnknownClip(..))
+        ));
+        assert!(matches!(Database::build(vec![], skeleton(), DbParams::default(), None), Err(DbError::NoClips)));
+    }
+}

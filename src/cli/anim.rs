@@ -1,0 +1,480 @@
+//! `strider db build|info|export` and `strider train` (seed 000 §3.2): animation databases from
+//! BVH files, their description, the built-in generated clips, and SARSA training of the
+//! interval policy. Also the shared options that make `run`, `render` and `tui` drive an
+//! animated character.
+//!
+//! A database directory holds `database.json` (format, version, parameters, the clip files and
+//! the interval list) and the clips as BVH under `clips/`. Rebuilding from it reproduces the
+//! same intervals, so policies trained on it stay valid.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{Context, anyhow};
+use clap::{Args, Subcommand, ValueEnum};
+use serde::{Deserialize, Serialize};
+
+use super::{Failure, Outcome, write_atomic};
+use crate::anim::bvh::{self, BvhOptions};
+use crate::anim::player::{PlayerParams, TransitionKind};
+use crate::anim::policy::{LearnParams, Policy, StateGrid};
+use crate::anim::{Clip, Database, DbParams, IntervalSpec, Skeleton};
+use crate::diagnostic::SourceError;
+use crate::sim::{Animation, AnimationHandle};
+
+/// `strider db` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum DbCommand {
+    /// Build a database from BVH files into a directory.
+    Build(BuildArgs),
+    /// Describe a database (the built-in one without DIR).
+    Info {
+        /// Database directory.
+        dir: Option<PathBuf>,
+    },
+    /// Measure command tracking of the animated character (90° turns, speed changes, path).
+    Track {
+        /// Database directory (default: built-in).
+        dir: Option<PathBuf>,
+        /// Trained policy (default: the shipped one for the built-in database).
+        #[arg(long)]
+        policy: Option<PathBuf>,
+        /// How intervals hand over.
+        #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
+        transition: TransitionArg,
+    },
+    /// Write the built-in generated clips as a database directory of BVH files.
+    Export {
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+/// `strider db build` options.
+#[derive(Debug, Args)]
+pub struct BuildArgs {
+    /// BVH files, one clip each.
+    #[arg(long, num_args = 1.., required = true)]
+    pub bvh: Vec<PathBuf>,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Length unit of the files in metres (CMU files: 0.056444).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Neighbours per interval.
+    #[arg(long, default_value_t = 6)]
+    pub k: usize,
+    /// Hand-written intervals instead of detected ones: lines `CLIP START END` (frames).
+    #[arg(long)]
+    pub intervals: Option<PathBuf>,
+}
+
+/// `strider train` options.
+#[derive(Debug, Args)]
+pub struct TrainArgs {
+    /// Database directory (default: built-in).
+    #[arg(long)]
+    pub db: Option<PathBuf>,
+    /// Training episodes (rounded up to whole rounds of 64).
+    #[arg(long, default_value_t = 1_000_000)]
+    pub episodes: u64,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Policy file to write (atomically; checkpoints go to the same file).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Continue training the policy in `--out` instead of starting afresh.
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// Body of the agents of `run`, `render` and `tui`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum BodyKind {
+    /// The animated character, driven by the database and its trained policy.
+    #[default]
+    Animated,
+    /// The kinematic disc.
+    Disc,
+}
+
+/// Transition kinds on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum TransitionArg {
+    /// Cross-fade.
+    #[default]
+    Crossfade,
+    /// Inertialization.
+    Inertialize,
+}
+
+/// Options choosing the agents' body.
+#[derive(Debug, Clone, Args, Default)]
+pub struct BodyArgs {
+    /// Agent body.
+    #[arg(long, value_enum, default_value_t = BodyKind::Animated)]
+    pub body: BodyKind,
+    /// Animation database directory (default: built-in).
+    #[arg(long)]
+    pub db: Option<PathBuf>,
+    /// Trained policy (default: the shipped one for the built-in database).
+    #[arg(long)]
+    pub policy: Option<PathBuf>,
+    /// How intervals hand over.
+    #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
+    pub transition: TransitionArg,
+}
+
+/// The manifest of a database directory.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Manifest {
+    /// Always `strider-animation-db`.
+    pub format: String,
+    /// Format version (1).
+    pub version: u32,
+    /// Neighbours per interval.
+    pub k: usize,
+    /// Normalized time samples per interval minus one.
+    pub samples: usize,
+    /// Clip files, relative to the directory, in database order.
+    pub clips: Vec<String>,
+    /// Intervals: clip name, first frame, last frame.
+    pub intervals: Vec<(String, usize, usize)>,
+}
+
+const MANIFEST: &str = "database.json";
+const FORMAT: &str = "strider-animation-db";
+
+/// The built-in database: the 22-DOF actor's generated clips, intervals detected.
+pub fn builtin_database() -> Result<Database, Failure> {
+    Database::build(crate::anim::procedural::default_clips(), crate::anim::actor::actor(), DbParams::default(), None)
+        .map_err(|e| anyhow!("built-in animation database: {e}").into())
+}
+
+/// The policy shipped for the built-in database.
+pub const DEFAULT_POLICY: &[u8] = include_bytes!("../../assets/default.policy");
+
+fn read_bvh(path: &Path, scale: f64) -> Result<(Skeleton, Clip), Failure> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "clip".into());
+    let b = bvh::parse(&text, &path.display().to_string(), &name, &BvhOptions { scale })?;
+    for w in &b.warnings {
+        eprintln!("{}: warning: {w}", path.display());
+    }
+    Ok((b.skeleton, b.clip))
+}
+
+fn same_skeleton(a: &Skeleton, b: &Skeleton) -> bool {
+    a.len() == b.len()
+        && a.joints()
+            .iter()
+            .zip(b.joints())
+            .all(|(x, y)| x.name == y.name && x.parent == y.parent && (x.offset - y.offset).length() < 1e-6)
+}
+
+/// Loads a database directory.
+pub fn load_database(dir: &Path) -> Result<Database, Failure> {
+    let path = dir.join(MANIFEST);
+    let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let m: Manifest = serde_json::from_str(&text)
+        .map_err(|e| SourceError::new(&path.display().to_string(), e.line(), e.column(), e.to_string()))?;
+    if m.format != FORMAT || m.version != 1 {
+        return Err(anyhow!("{}: not a version 1 {FORMAT} manifest", path.display()).into());
+    }
+    let mut skeleton: Option<Skeleton> = None;
+    let mut clips = Vec::new();
+    for file in &m.clips {
+        let (s, c) = read_bvh(&dir.join(file), 1.0)?;
+        match &skeleton {
+            Some(k) if !same_skeleton(k, &s) => {
+                return Err(anyhow!("{file}: its skeleton differs from the first clip's").into());
+            }
+            Some(_) => {}
+            None => skeleton = Some(s),
+        }
+        clips.push(c);
+    }
+    let skeleton = skeleton.ok_or_else(|| anyhow!("{}: no clips", path.display()))?;
+    let specs: Vec<IntervalSpec> =
+        m.intervals.iter().map(|(c, s, e)| IntervalSpec { clip: c.clone(), start: *s, end: *e }).collect();
+    let params = DbParams { k: m.k, samples: m.samples, ..DbParams::default() };
+    Database::build(clips, skeleton, params, Some(&specs)).map_err(|e| anyhow!("{}: {e}", path.display()).into())
+}
+
+/// Writes `db` as a database directory.
+pub fn save_database(db: &Database, dir: &Path) -> Result<(), Failure> {
+    let clips_dir = dir.join("clips");
+    std::fs::create_dir_all(&clips_dir).with_context(|| format!("cannot create {}", clips_dir.display()))?;
+    let mut files = Vec::new();
+    for c in &db.clips {
+        let file = format!("clips/{}.bvh", c.name);
+        let text = bvh::write(&db.skeleton, c, &BvhOptions::default());
+        let path = dir.join(&file);
+        write_atomic(&path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
+        files.push(file);
+    }
+    let m = Manifest {
+        format: FORMAT.into(),
+        version: 1,
+        k: db.params.k,
+        samples: db.params.samples,
+        clips: files,
+        intervals: db.intervals.iter().map(|i| (db.clips[i.clip].name.clone(), i.start, i.end)).collect(),
+    };
+    let json = serde_json::to_string_pretty(&m).map_err(|e| anyhow!("{e}"))?;
+    let path = dir.join(MANIFEST);
+    write_atomic(&path, json.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+/// Reads the hand-written interval list: `CLIP START END` per line, `#` comments.
+pub fn parse_intervals(text: &str, file: &str) -> Result<Vec<IntervalSpec>, SourceError> {
+    let mut out = Vec::new();
+    for (n, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("");
+        let fields: Vec<(usize, &str)> =
+            line.split_whitespace().map(|f| (f.as_ptr() as usize - line.as_ptr() as usize + 1, f)).collect();
+        if fields.is_empty() {
+            continue;
+        }
+        if fields.len() != 3 {
+            let col = fields.get(3).map_or(line.trim_end().len() + 1, |f| f.0);
+            return Err(SourceError::new(
+                file,
+                n + 1,
+                col,
+                format!("expected CLIP START END, found {} fields", fields.len()),
+            ));
+        }
+        let num = |(col, s): (usize, &str)| {
+            s.parse::<usize>()
+                .map_err(|_| SourceError::new(file, n + 1, col, format!("expected a frame number, found '{s}'")))
+        };
+        let (start, end) = (num(fields[1])?, num(fields[2])?);
+        if end <= start {
+            return Err(SourceError::new(file, n + 1, fields[2].0, "the last frame must come after the first"));
+        }
+        out.push(IntervalSpec { clip: fields[0].1.to_string(), start, end });
+    }
+    Ok(out)
+}
+
+/// `strider db …`.
+pub fn db(command: DbCommand) -> Outcome {
+    match command {
+        DbCommand::Build(a) => {
+            if !(a.scale > 0.0) || !a.scale.is_finite() {
+                return Err(anyhow!("--scale must be a positive number").into());
+            }
+            let mut skeleton: Option<Skeleton> = None;
+            let mut clips: Vec<Clip> = Vec::new();
+            for p in &a.bvh {
+                let (s, c) = read_bvh(p, a.scale)?;
+                match &skeleton {
+                    Some(k) if !same_skeleton(k, &s) => {
+                        return Err(anyhow!("{}: its skeleton differs from the first file's", p.display()).into());
+                    }
+                    Some(_) => {}
+                    None => skeleton = Some(s),
+                }
+                if clips.iter().any(|o| o.name == c.name) {
+                    return Err(anyhow!("{}: a clip named '{}' is already in the database", p.display(), c.name).into());
+                }
+                clips.push(c);
+            }
+            let manual = match &a.intervals {
+                Some(p) => {
+                    let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+                    Some(parse_intervals(&text, &p.display().to_string())?)
+                }
+                None => None,
+            };
+            let skeleton = skeleton.ok_or_else(|| anyhow!("no BVH files"))?;
+            let params = DbParams { k: a.k, ..DbParams::default() };
+            let db = Database::build(clips, skeleton, params, manual.as_deref()).map_err(|e| anyhow!("{e}"))?;
+            save_database(&db, &a.out)?;
+            println!(
+                "{} intervals from {} clips, K = {}, written to {}",
+                db.intervals.len(),
+                db.clips.len(),
+                db.params.k,
+                a.out.display()
+            );
+            Ok(())
+        }
+        DbCommand::Info { dir } => {
+            let db = match &dir {
+                Some(d) => load_database(d)?,
+                None => builtin_database()?,
+            };
+            print!("{}", describe(&db, dir.as_deref()));
+            Ok(())
+        }
+        DbCommand::Track { dir, policy, transition } => {
+            let body = BodyArgs { body: BodyKind::Animated, db: dir, policy, transition };
+            let anim = load_animation(&body)?.ok_or_else(|| anyhow!("no animation"))?;
+            let f = crate::sim::measure_tracking(&anim.0, 1.35, 0.8);
+            println!(
+                "90° heading change, walking: left {:.2} s, right {:.2} s (within 10°)",
+                f.turn_left_90_s, f.turn_right_90_s
+            );
+            println!(
+                "speed change 0.8 → 1.35 m/s: {:.2} s; 1.35 → 0.8 m/s: {:.2} s (within 10 %)",
+                f.speed_up_s, f.slow_down_s
+            );
+            println!("RMS distance, commanded path to root path (60 s of varied commands): {:.3} m", f.rms_path_m);
+            println!(
+                "foot skating: {:.3} cm/frame at 60 Hz; mean transition cost {:.4}",
+                f.foot_skating_cm_per_frame, f.transition_cost
+            );
+            Ok(())
+        }
+        DbCommand::Export { out } => {
+            let db = builtin_database()?;
+            save_database(&db, &out)?;
+            println!("{} clips, {} intervals written to {}", db.clips.len(), db.intervals.len(), out.display());
+            Ok(())
+        }
+    }
+}
+
+/// A description of a database: skeleton, clips, intervals, neighbours.
+pub fn describe(db: &Database, dir: Option<&Path>) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let name = dir.map_or("built-in (22-DOF actor, generated clips)".to_string(), |d| d.display().to_string());
+    let dof: usize = db.skeleton.joints().iter().map(|j| j.channels.len()).sum();
+    let _ = writeln!(s, "database: {name}");
+    let _ = writeln!(
+        s,
+        "skeleton: {} joints, {dof} degrees of freedom; feet {} / {}",
+        db.skeleton.len(),
+        db.skeleton.joints()[db.feet[0]].name,
+        db.skeleton.joints()[db.feet[1]].name
+    );
+    let total: f64 = db.clips.iter().map(Clip::duration).sum();
+    let _ = writeln!(s, "clips: {} ({total:.1} s)", db.clips.len());
+    let _ = writeln!(s, "intervals: {}", db.intervals.len());
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for i in &db.intervals {
+        lo = lo.min(i.duration);
+        hi = hi.max(i.duration);
+    }
+    let _ = writeln!(s, "interval length: {lo:.2}–{hi:.2} s; speeds up to {:.2} m/s", db.max_speed());
+    let _ =
+        writeln!(s, "neighbours: K = {}, ε = {:.4}, fingerprint {:016x}", db.params.k, db.epsilon, db.fingerprint());
+    let _ = writeln!(s, "{:<22} {:>7} {:>10} {:>9}", "clip", "frames", "intervals", "speed");
+    for (c, clip) in db.clips.iter().enumerate() {
+        let ivs: Vec<_> = db.intervals.iter().filter(|i| i.clip == c).collect();
+        let v = ivs.iter().map(|i| i.speed).sum::<f64>() / ivs.len().max(1) as f64;
+        let _ = writeln!(s, "{:<22} {:>7} {:>10} {:>7.2} m/s", clip.name, clip.frames.len(), ivs.len(), v);
+    }
+    s
+}
+
+/// `strider train`.
+pub fn train(a: TrainArgs) -> Outcome {
+    let db = match &a.db {
+        Some(d) => load_database(d)?,
+        None => builtin_database()?,
+    };
+    let mut policy = if a.resume {
+        let bytes = std::fs::read(&a.out).with_context(|| format!("cannot read {}", a.out.display()))?;
+        let p = Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+        eprintln!("resuming at {} episodes (seed {})", p.episodes, p.seed);
+        p
+    } else {
+        Policy::new(&db, StateGrid::default(), LearnParams::default(), a.seed)
+    };
+    let target = a.episodes.div_ceil(crate::anim::policy::ROUND) * crate::anim::policy::ROUND;
+    let bar = indicatif::ProgressBar::new(target);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} episodes, {elapsed} elapsed, eta {eta} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_position(policy.episodes);
+    let mut stable_since: Option<u64> = None;
+    let mut last_changed = f64::NAN;
+    let mut write_error = None;
+    let started = std::time::Instant::now();
+    let out = a.out.clone();
+    policy.train(
+        &db,
+        target,
+        50,
+        &mut |p| {
+            bar.set_position(p.episodes);
+            bar.set_message(format!("best action changed in {:.2}% of states", 100.0 * p.changed));
+            last_changed = p.changed;
+            if p.changed < 0.005 {
+                stable_since.get_or_insert(p.episodes);
+            } else {
+                stable_since = None;
+            }
+        },
+        &mut |p| {
+            if let Err(e) = write_atomic(&out, &p.to_bytes()) {
+                write_error.get_or_insert(e);
+            }
+        },
+    );
+    bar.finish_and_clear();
+    if let Some(e) = write_error {
+        return Err(anyhow!("cannot write checkpoint {}: {e}", out.display()).into());
+    }
+    write_atomic(&a.out, &policy.to_bytes()).with_context(|| format!("cannot write {}", a.out.display()))?;
+    let secs = started.elapsed().as_secs_f64();
+    println!(
+        "trained {} episodes in {secs:.1} s; {} of {} sampled states visited; {}; written to {}",
+        policy.episodes,
+        policy.visited_states(),
+        policy.states(),
+        match stable_since {
+            Some(e) => format!("best actions stable (under 0.5% changing per round) since episode {e}"),
+            None => format!(
+                "best actions still changing ({:.2}% of visited states in the last round)",
+                100.0 * last_changed
+            ),
+        },
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// The animation the agents of `run`, `render` and `tui` use, or `None` for discs.
+pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> {
+    if b.body == BodyKind::Disc {
+        return Ok(None);
+    }
+    let db = match &b.db {
+        Some(d) => load_database(d)?,
+        None => builtin_database()?,
+    };
+    let policy = match (&b.policy, &b.db) {
+        (Some(p), _) => {
+            let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+            Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
+        }
+        (None, None) => Policy::from_bytes(DEFAULT_POLICY, &db).map_err(|e| anyhow!("assets/default.policy: {e}"))?,
+        (None, Some(d)) => {
+            return Err(anyhow!(
+                "{}: give its policy with --policy FILE (train one with `strider train --db {} --out FILE`)",
+                d.display(),
+                d.display()
+            )
+            .into());
+        }
+    };
+    let transition = match b.transition {
+        TransitionArg::Crossfade => TransitionKind::CrossFade,
+        TransitionArg::Inertialize => TransitionKind::Inertialize,
+    };
+    Ok(Some(AnimationHandle(Arc::new(Animation {
+        db,
+        policy,
+        player: PlayerParams { transition, ..PlayerParams::default() },
+    }))))
+}

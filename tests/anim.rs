@@ -1,0 +1,191 @@
+//! The animation database, the trained policy and the animated character, end to end
+//! (seed 000 §3.2): the built-in database, the shipped policy, database directories, training
+//! files, animated navigation and the command line.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Arc;
+
+use strider::anim::policy::{Errors, Policy};
+use strider::cli::anim::{DEFAULT_POLICY, builtin_database, load_database, parse_intervals, save_database};
+use strider::experiment::run_episode;
+use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, StepParameters, measure_tracking};
+
+fn strider(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strider"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run strider")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn animation() -> Arc<Animation> {
+    let db = builtin_database().expect("built-in database");
+    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).expect("shipped policy matches the built-in database");
+    Arc::new(Animation { db, policy, player: Default::default() })
+}
+
+#[test]
+fn builtin_database_has_the_actor_and_enough_intervals() {
+    let db = builtin_database().unwrap();
+    let dof: usize = db.skeleton.joints().iter().map(|j| j.channels.len()).sum();
+    assert_eq!(dof, 22);
+    assert!(db.intervals.len() >= 200, "{} intervals", db.intervals.len());
+    for (c, clip) in db.clips.iter().enumerate() {
+        assert!(db.intervals.iter().any(|i| i.clip == c), "clip {} has no interval", clip.name);
+    }
+    for (i, cands) in db.candidates.iter().enumerate() {
+        assert_eq!(cands.len(), db.params.k + 1);
+        assert_eq!(cands[0].interval, db.successor[i]);
+        assert!(cands.iter().all(|c| c.interval < db.intervals.len() && c.weight > 0.0));
+    }
+    // Intervals run from foot plant to foot plant: walking intervals alternate feet.
+    let walk: Vec<u8> =
+        db.intervals.iter().filter(|i| db.clips[i.clip].name == "walk_straight").map(|i| i.foot).collect();
+    assert!(walk.windows(2).skip(1).all(|w| w[0] != w[1]), "{walk:?}");
+}
+
+#[test]
+fn shipped_policy_belongs_to_the_builtin_database() {
+    let a = animation();
+    assert!(a.policy.visited_states() > a.policy.states() / 2);
+    // Far to the left of the commanded heading, walking: the chosen interval turns left.
+    let walk = a.db.intervals.iter().position(|i| a.db.clips[i.clip].name == "walk_straight").unwrap();
+    let mut turned = 0.0;
+    let mut i = walk;
+    let mut e = Errors { speed: 0.0, direction: 1.5 };
+    for _ in 0..4 {
+        i = a.db.candidates[i][a.policy.choose(i, e)].interval;
+        turned += a.db.intervals[i].turn();
+        e.direction -= a.db.intervals[i].turn();
+    }
+    assert!(turned > 0.5, "turned {turned} rad");
+}
+
+#[test]
+fn database_directories_round_trip() {
+    let db = builtin_database().unwrap();
+    let dir = temp_dir("db_round_trip");
+    save_database(&db, &dir).unwrap();
+    let back = load_database(&dir).unwrap();
+    assert_eq!(back.clips.len(), db.clips.len());
+    let spans = |d: &strider::anim::Database| d.intervals.iter().map(|i| (i.clip, i.start, i.end)).collect::<Vec<_>>();
+    assert_eq!(spans(&back), spans(&db));
+    // Clips written at 1e-6 precision may reorder near-ties among neighbours, not more.
+    let same = (0..db.intervals.len()).filter(|&i| back.successor[i] == db.successor[i]).count();
+    assert!(same * 100 >= db.intervals.len() * 95, "{same} of {} successors kept", db.intervals.len());
+}
+
+#[test]
+fn shipped_clips_are_the_generated_ones() {
+    let db = builtin_database().unwrap();
+    let shipped = load_database(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/db"))).unwrap();
+    let spans = |d: &strider::anim::Database| d.intervals.iter().map(|i| (i.clip, i.start, i.end)).collect::<Vec<_>>();
+    assert_eq!(spans(&shipped), spans(&db), "assets/db is stale: run `strider db export --out assets/db`");
+    for (a, b) in shipped.clips.iter().zip(&db.clips) {
+        assert_eq!(a.name, b.name);
+        for (fa, fb) in a.frames.iter().zip(&b.frames) {
+            assert!(fa.root.distance(fb.root) < 1e-6);
+            for (qa, qb) in fa.rotations.iter().zip(&fb.rotations) {
+                assert!(strider::anim::angle_between(*qa, *qb) < 1e-5);
+            }
+        }
+    }
+}
+
+#[test]
+fn hand_written_interval_lists() {
+    let list = parse_intervals("# clip start end\nwalk 0 30\n\nwalk 30 61 # second\n", "i.txt").unwrap();
+    assert_eq!(list.len(), 2);
+    assert_eq!(list[1].end, 61);
+    assert_eq!(
+        parse_intervals("walk 0 x\n", "i.txt").unwrap_err().to_string(),
+        "i.txt:1:8: expected a frame number, found 'x'"
+    );
+    assert_eq!(
+        parse_intervals("walk 5 5\n", "i.txt").unwrap_err().to_string(),
+        "i.txt:1:8: the last frame must come after the first"
+    );
+    assert!(parse_intervals("walk 1 2 3\n", "i.txt").unwrap_err().to_string().starts_with("i.txt:1:10:"));
+}
+
+fn controller() -> LayeredController {
+    let log = ScriptLog::new();
+    let engines =
+        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
+    LayeredController::new(&engines, ControllerParams::default()).unwrap()
+}
+
+#[test]
+fn animated_navigation_is_collision_free_and_deterministic() {
+    let log = ScriptLog::new();
+    let scenario =
+        map_api::load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
+    let world = scenario.world();
+    let params = StepParameters { animation: Some(AnimationHandle(animation())), ..StepParameters::default() };
+    let c = controller();
+    let a = run_episode(&scenario, &world, 0, &c, &params, 0, 1);
+    let b = run_episode(&scenario, &world, 0, &c, &params, 0, 1);
+    assert_eq!(a.record, b.record);
+    assert_eq!(a.trail, b.trail);
+    assert_eq!(a.record.collisions, 0);
+    assert!(a.record.foot_skating_cm_per_frame.is_some() && a.record.tracking_rms_m.is_some());
+    assert!(a.record.path_length_m > 1.0);
+}
+
+#[test]
+fn tracking_commands_on_open_ground() {
+    let f = measure_tracking(&animation(), 1.35, 0.8);
+    assert!(f.turn_left_90_s < 10.0 && f.turn_right_90_s < 10.0, "{f:?}");
+    assert!(f.rms_path_m < 0.5, "{f:?}");
+    assert!(f.foot_skating_cm_per_frame < 1.0, "{f:?}");
+}
+
+#[test]
+fn command_line_database_and_training() {
+    let dir = temp_dir("cli_train");
+    let out = strider(&["db", "info"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("22 degrees of freedom") && text.contains("intervals:"), "{text}");
+    let policy = dir.join("p.policy");
+    let p = policy.to_str().unwrap();
+    let out = strider(&["train", "--episodes", "128", "--seed", "3", "--out", p]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let first = std::fs::read(&policy).unwrap();
+    let out = strider(&["train", "--episodes", "256", "--seed", "3", "--out", p, "--resume"]);
+    assert!(out.status.success());
+    let resumed = std::fs::read(&policy).unwrap();
+    let out = strider(&["train", "--episodes", "256", "--seed", "3", "--out", dir.join("q.policy").to_str().unwrap()]);
+    assert!(out.status.success());
+    assert_eq!(std::fs::read(dir.join("q.policy")).unwrap(), resumed, "resuming gives the same policy as one run");
+    assert_ne!(first, resumed);
+    // A damaged policy is a clear error, not a panic.
+    let mut bad = resumed.clone();
+    bad[40] ^= 0xff;
+    std::fs::write(&policy, &bad).unwrap();
+    let out = strider(&["run", "maps/open_field.rhai", "--policy", p]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("corrupt"));
+    // A BVH error names file, line and column.
+    std::fs::write(dir.join("bad.bvh"), "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n").unwrap();
+    let out = strider(&[
+        "db",
+        "build",
+        "--bvh",
+        dir.join("bad.bvh").to_str().unwrap(),
+        "--out",
+        dir.join("db").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.bvh:4:"), "{err}");
+}
