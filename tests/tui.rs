@@ -11,7 +11,7 @@ use strider::sim::Body;
 use strider::tui::{App, Config, MapSpec, ui};
 
 fn u_trap() -> App {
-    App::load(Config { map: MapSpec::File("maps/u_trap.rhai".into()), rules: None, seed: 1 }).unwrap()
+    App::load(Config { map: MapSpec::File("maps/u_trap.rhai".into()), rules: None, seed: 1, animation: None }).unwrap()
 }
 
 /// Renders `app` on a `w`×`h` screen and returns the screen's text, one string per row.
@@ -130,9 +130,13 @@ fn broken_rule_edit_keeps_the_last_good_rules_and_logs_the_place() {
     std::fs::create_dir_all(&dir).unwrap();
     let rules: PathBuf = dir.join("nav.rhai");
     std::fs::copy("scripts/nav.rhai", &rules).unwrap();
-    let mut app =
-        App::load(Config { map: MapSpec::File("maps/u_trap.rhai".into()), rules: Some(rules.clone()), seed: 1 })
-            .unwrap();
+    let mut app = App::load(Config {
+        map: MapSpec::File("maps/u_trap.rhai".into()),
+        rules: Some(rules.clone()),
+        seed: 1,
+        animation: None,
+    })
+    .unwrap();
     app.advance(0.5);
     let stages = app.sim.agents[0].controller.network().stages().len();
     std::fs::write(&rules, "let e = fuzzy_engine(\"x\");\nlet v = e.input(\"front\", 0.0, 5.0;\ne\n").unwrap();

@@ -5,7 +5,7 @@
 //! spring), and root motion integrated frame by frame so the character's path is continuous.
 //!
 //! The player also measures what a viewer would notice: foot skating (horizontal slide of
-//! contact feet, weighted by `2 − 2^(h/H)` below `H` = 2.5 cm), the pose distance at each
+//! contact feet, at the foot joint, weighted by `2 − 2^(h/H)` below `H` = 2.5 cm), the pose distance at each
 //! switch, peak joint jerk around switches, and footprints.
 
 use glam::{DQuat, DVec3};
@@ -45,6 +45,9 @@ impl Default for PlayerParams {
 
 /// Height below which a foot counts as in contact for the skating measure, metres (2.5 cm).
 pub const CONTACT_HEIGHT_M: f64 = 0.025;
+/// Pose distance (Eq. 1) below which a switch continues the motion seamlessly, needing no
+/// transition.
+pub const SEAMLESS: f64 = 1e-4;
 /// Window around a switch in which joint jerk is watched, seconds.
 pub const JERK_WINDOW_S: f64 = 0.25;
 
@@ -234,7 +237,13 @@ impl Player {
             let choice = chooser.choose(db, ending, self.world.then(to_end).yaw).min(db.candidates[ending].len() - 1);
             let next = db.candidates[ending][choice].interval;
             let nv = &db.intervals[next];
-            let natural = nv.clip == iv.clip && nv.start == iv.end;
+            // The clip's own next frames, or a start that continues the pose seamlessly (a
+            // cyclic clip wrapping around), need no transition.
+            let natural = (nv.clip == iv.clip && nv.start == iv.end)
+                || db.pose_distance(
+                    &db.relative_pose(iv.clip, iv.end as f64),
+                    db.samples(next).first().expect("samples"),
+                ) < SEAMLESS;
             self.metrics.switches += 1;
             self.played.push((self.metrics.frames, next));
             if !natural {
@@ -353,6 +362,7 @@ impl Player {
         db.skeleton.globals(&self.pose, &mut self.globals);
         let h = 1.0 / self.params.frame_rate;
         for f in 0..2 {
+            // Contact and slide of the foot joint (the ankle), the point the clips plant.
             let p = self.globals[db.feet[f]].0;
             let height = p.z - db.foot_floor[f];
             if let Some(prev) = self.feet_prev[f] {

@@ -19,16 +19,20 @@ pub struct TuiArgs {
     /// Seed of the run (random worlds).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Agent body.
+    #[command(flatten)]
+    pub body: super::anim::BodyArgs,
 }
 
 /// `strider tui`.
 pub fn run(args: TuiArgs) -> Outcome {
     let map = MapSpec::parse(args.map.as_deref()).map_err(|e| anyhow::anyhow!(e))?;
-    tui::run(Config { map, rules: args.rules, seed: args.seed })?;
+    let animation = super::anim::load_animation(&args.body)?;
+    tui::run(Config { map, rules: args.rules, seed: args.seed, animation })?;
     Ok(())
 }
 
 /// `strider` with no command on a terminal: the live view of the built-in default scenario.
 pub fn default_scenario() -> Outcome {
-    run(TuiArgs { map: None, rules: None, seed: 1 })
+    run(TuiArgs { map: None, rules: None, seed: 1, body: super::anim::BodyArgs::default() })
 }

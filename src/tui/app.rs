@@ -53,6 +53,8 @@ pub struct Config {
     pub rules: Option<PathBuf>,
     /// Seed of the run (random worlds).
     pub seed: u64,
+    /// Animated character for every agent (`None`: kinematic discs).
+    pub animation: Option<crate::sim::AnimationHandle>,
 }
 
 /// How important a log line is.
@@ -169,9 +171,13 @@ pub struct App {
 }
 
 /// The simulation of `scenario`: one agent per task, each with its own copy of `controller`,
-/// and the parameters `strider run` uses (the scenario's agent radius).
-pub fn simulation_of(scenario: &Scenario, controller: &LayeredController) -> Simulation {
-    let mut params = StepParameters::default();
+/// and the parameters `strider run` uses (the scenario's agent radius, the body).
+pub fn simulation_of(
+    scenario: &Scenario,
+    controller: &LayeredController,
+    animation: Option<crate::sim::AnimationHandle>,
+) -> Simulation {
+    let mut params = StepParameters { animation, ..StepParameters::default() };
     params.limits.radius = scenario.agent_radius;
     let mut sim = Simulation::new(scenario.world(), params);
     for task in &scenario.tasks {
@@ -196,7 +202,7 @@ impl App {
 
     /// A view of `scenario` driven by `controller`, paused at time 0.
     pub fn new(config: Config, scenario: Scenario, controller: LayeredController) -> App {
-        let sim = simulation_of(&scenario, &controller);
+        let sim = simulation_of(&scenario, &controller, config.animation.clone());
         let watch_map = config.map.path().map(Watched::new);
         let watch_rules = config.rules.as_deref().map(Watched::new);
         let mut app = App {
@@ -358,7 +364,7 @@ impl App {
 
     /// Starts the run again from the scenario (same rules, same view).
     pub fn reset(&mut self) {
-        self.sim = simulation_of(&self.scenario, &self.controller);
+        self.sim = simulation_of(&self.scenario, &self.controller, self.config.animation.clone());
         self.selected = self.selected.min(self.sim.agents.len().saturating_sub(1));
         self.accumulator_s = 0.0;
         self.manual_command = Command::default();
@@ -614,7 +620,7 @@ mod tests {
     use super::*;
 
     fn app() -> App {
-        App::load(Config { map: MapSpec::BuiltIn, rules: None, seed: 1 }).unwrap()
+        App::load(Config { map: MapSpec::BuiltIn, rules: None, seed: 1, animation: None }).unwrap()
     }
 
     fn key(c: char) -> KeyEvent {
@@ -641,7 +647,7 @@ mod tests {
         for _ in 0..40 {
             a.advance(0.37);
         }
-        let mut b = simulation_of(&a.scenario, &a.controller);
+        let mut b = simulation_of(&a.scenario, &a.controller, None);
         let steps = (a.sim.time_s / b.params.dt_s).round() as usize;
         for _ in 0..steps {
             b.step();

@@ -224,6 +224,19 @@ fn agent_panel(app: &App, area: Rect, buf: &mut Buffer) {
             m.min_clearance_m, m.collisions, m.blocked_steps
         )),
     ];
+    if let Some(b) = agent.body.animated() {
+        // The RL controller's state (seed 000 §3.2.2): interval playing, errors, best value.
+        let a = b.animation();
+        let iv = b.player().interval();
+        let e = b.errors();
+        let best = a.policy.values(iv, e).iter().cloned().fold(f32::NEG_INFINITY, f32::max);
+        lines.push(Line::raw(format!(
+            "anim {} #{iv}  e_v {:+.2}  e_θ {:+.0}°  Q {best:.2}",
+            a.db.clips[a.db.intervals[iv].clip].name,
+            e.speed,
+            e.direction.to_degrees()
+        )));
+    }
     if app.manual {
         let you = Span::styled(cmd("you", app.manual_command), Style::new().fg(Color::Magenta));
         lines.push(Line::from(vec![you, Span::styled(format!("  {}", cmd("auto", app.autopilot_command)), DIM)]));
