@@ -23,7 +23,7 @@ use crate::world::sensing::wrap_angle;
 /// Largest direction error the desired heading may run ahead of the character, radians.
 pub const MAX_DIRECTION_ERROR: f64 = 0.9 * std::f64::consts::PI;
 /// The desired heading is where the commanded turn rate leads within this time, seconds.
-pub const HEADING_HORIZON_S: f64 = 0.5;
+pub const HEADING_HORIZON_S: f64 = 1.0;
 
 /// A database with its trained policy and playback parameters, shared by every agent.
 #[derive(Debug)]
