@@ -45,7 +45,11 @@ fn app_with_agents(n: usize) -> App {
     }
     assert_eq!(tasks.len(), n, "not enough free start points");
     scenario.tasks = tasks;
-    let mut app = App::new(Config { map: MapSpec::Random(Density::Semi), rules: None, seed: 7, animation: None }, scenario, controller);
+    let mut app = App::new(
+        Config { map: MapSpec::Random(Density::Semi), rules: None, seed: 7, animation: None },
+        scenario,
+        controller,
+    );
     for _ in 0..40 {
         app.sim.step();
     }

@@ -221,3 +221,42 @@ fn u_trap_episode_final_frame() {
     let pixmap = strider::render::png::render_png(&scene_of(&sim, Some("u_trap".into())), 480, 360);
     assert_matches_golden("u_trap_final", &pixmap);
 }
+
+/// An animated character crossing the sparse map: footprints on the trajectory, and the side
+/// view of its first poses.
+#[test]
+fn animated_character_footprints_and_poses() {
+    use std::sync::Arc;
+    use strider::anim::policy::Policy;
+    use strider::cli::anim::{DEFAULT_POLICY, builtin_database};
+    use strider::render::png::PngPainter;
+    use strider::render::poses::draw_strip;
+    use strider::render::sim_view::{scene_of, strip_pose_of};
+    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
+
+    let log = ScriptLog::new();
+    let scenario =
+        map_api::load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
+    let engines =
+        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
+    let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
+    let db = builtin_database().unwrap();
+    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
+    let animation = AnimationHandle(Arc::new(Animation { db, policy, player: Default::default() }));
+    let params = StepParameters { animation: Some(animation), ..StepParameters::default() };
+    let mut sim = Simulation::new(scenario.world(), params);
+    sim.add_agent(scenario.tasks[0], &controller);
+    let mut strip = Vec::new();
+    for step in 0..400 {
+        if step >= 40 && step % 5 == 0 && strip.len() < 8 {
+            strip.push(strip_pose_of(sim.agents[0].body.animated().unwrap(), format!("{step}")));
+        }
+        sim.step();
+    }
+    assert!(!sim.agents[0].body.animated().unwrap().player().footprints.is_empty());
+    assert_matches_golden("animated_sparse", &render_png(&scene_of(&sim, Some("animated".into())), 480, 480));
+    let mut painter = PngPainter::new(800, 240);
+    draw_strip(&strip, &mut painter);
+    assert_matches_golden("animated_poses", painter.pixmap());
+}

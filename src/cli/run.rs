@@ -269,7 +269,11 @@ pub fn default_scenario() -> Outcome {
     let e = experiment::run_episode(&scenario, &world, 0, &controller, &params, 0, 0);
     let r = &e.record;
     let mut out = BufWriter::new(io::stdout().lock());
-    writeln!(out, "strider: layered fuzzy navigation on the built-in '{}' world (seed 000 Fig 2 b)", r.scenario)?;
+    writeln!(
+        out,
+        "strider: layered fuzzy navigation with the RL-animated character on the built-in '{}' world (seed 000 Fig 2 b)",
+        r.scenario
+    )?;
     writeln!(out, "  reached the goal:  {}", if r.reached { "yes" } else { "no" })?;
     writeln!(out, "  time:              {:.2} s", r.time_s)?;
     writeln!(
@@ -282,7 +286,13 @@ pub fn default_scenario() -> Outcome {
     writeln!(out, "  min clearance:     {:.3} m", r.min_clearance_m)?;
     writeln!(out, "  collisions:        {}", r.collisions)?;
     writeln!(out, "  boundary follows:  {}", r.boundary_follows)?;
-    writeln!(out, "Pictures: strider render maps/semi_cluttered.rhai --out frames/")?;
+    if let (Some(skate), Some(cost), Some(track)) = (r.foot_skating_cm_per_frame, r.transition_cost, r.tracking_rms_m) {
+        writeln!(
+            out,
+            "  animated character: foot skating {skate:.3} cm/frame, transition cost {cost:.4}, tracking RMS {track:.3} m"
+        )?;
+    }
+    writeln!(out, "Pictures: strider render maps/semi_cluttered.rhai --out frames/ --poses")?;
     out.flush()?;
     if r.reached && r.collisions == 0 { Ok(()) } else { Err(Failure::Task(anyhow!("the default scenario failed"))) }
 }
