@@ -122,10 +122,10 @@ const RATE_FLOOR: f64 = 0.1;
 impl Default for LearnParams {
     fn default() -> Self {
         LearnParams {
-            alpha: 0.1,
+            alpha: 0.05,
             beta: 1.0,
             learning_rate: 0.25,
-            discount: 0.7,
+            discount: 0.8,
             exploration: 0.3,
             episode_length: 24,
             task_change: 0.15,
