@@ -9,6 +9,7 @@
 pub mod animated;
 pub mod body;
 pub mod controller;
+pub mod follow;
 
 use glam::DVec2;
 
@@ -270,6 +271,7 @@ impl Simulation {
                 agent.obstacle_goal_distance =
                     obstacle_goal_distance(&agent.scan, pose.position, agent.task.goal, radius, FOLLOWED_REACH_M);
             }
+            agent.sensed.scan.clone_from(&agent.scan);
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);

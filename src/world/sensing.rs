@@ -58,6 +58,19 @@ pub struct Sensed {
     /// Distance from the goal to the nearest obstacle point seen around the agent, metres
     /// (infinite when none is in range).
     pub obstacle_goal_distance: f64,
+    /// Centre of the agent's disc, metres.
+    pub position: DVec2,
+    /// The goal point, metres.
+    pub goal: DVec2,
+    /// Heading of the agent (absolute), radians.
+    pub heading: f64,
+    /// Radius of the agent's disc, metres.
+    pub radius: f64,
+    /// Sensing range, metres.
+    pub range: f64,
+    /// Free distance of the disc along rays all around it (ray `i` at absolute angle
+    /// `2πi/n`, capped at the range), metres; filled by the simulation's scan, empty when none.
+    pub scan: Vec<f64>,
 }
 
 /// Wraps an angle to `(-π, π]`.
@@ -143,6 +156,11 @@ impl World {
             *s = (*s - radius).clamp(0.0, layout.range);
         }
         out.nearest = (out.nearest - radius).clamp(0.0, layout.range);
+        out.position = position;
+        out.goal = goal;
+        out.heading = heading;
+        out.radius = radius;
+        out.range = layout.range;
         out.goal_distance = position.distance(goal);
         out.goal_angle = if out.goal_distance > 0.0 { wrap_angle((goal - position).to_angle() - heading) } else { 0.0 };
     }
