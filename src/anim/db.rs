@@ -97,9 +97,9 @@ impl WeightParams {
 /// the clip is below `height_m` and its horizontal speed below `speed_mps`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactParams {
-    /// Height threshold, metres (0.03).
+    /// Height threshold, metres (0.05).
     pub height_m: f64,
-    /// Speed threshold, metres per second (0.25).
+    /// Speed threshold, metres per second (0.5).
     pub speed_mps: f64,
     /// Contacts or gaps shorter than this many frames are ignored (3).
     pub min_frames: usize,
@@ -110,7 +110,7 @@ pub struct ContactParams {
 
 impl Default for ContactParams {
     fn default() -> Self {
-        ContactParams { height_m: 0.03, speed_mps: 0.25, min_frames: 3, feet: Vec::new() }
+        ContactParams { height_m: 0.05, speed_mps: 0.5, min_frames: 3, feet: Vec::new() }
     }
 }
 
