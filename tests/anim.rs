@@ -79,9 +79,14 @@ fn database_directories_round_trip() {
     assert_eq!(back.clips.len(), db.clips.len());
     let spans = |d: &strider::anim::Database| d.intervals.iter().map(|i| (i.clip, i.start, i.end)).collect::<Vec<_>>();
     assert_eq!(spans(&back), spans(&db));
-    // Clips written at 1e-6 precision may reorder near-ties among neighbours, not more.
-    let same = (0..db.intervals.len()).filter(|&i| back.successor[i] == db.successor[i]).count();
-    assert!(same * 100 >= db.intervals.len() * 95, "{same} of {} successors kept", db.intervals.len());
+    // Clips written at 1e-6 precision may swap near-ties (clips that start with the same pose),
+    // never for a worse choice: every successor starts as close to its predecessor's end.
+    for i in 0..db.intervals.len() {
+        let iv = &db.intervals[i];
+        let end = db.relative_pose(iv.clip, iv.end as f64);
+        let d = |s: usize| db.pose_distance(&end, &db.samples(s)[0]);
+        assert!((d(back.successor[i]) - d(db.successor[i])).abs() < 1e-4, "interval {i}");
+    }
 }
 
 #[test]
