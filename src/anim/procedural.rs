@@ -123,6 +123,26 @@ impl Gait {
         }
     }
 
+    /// Shuffle: 0.2 m/s, short 0.12 m steps for turning on the spot.
+    pub fn shuffle() -> Gait {
+        Gait {
+            name: "shuffle".into(),
+            speed_mps: 0.2,
+            step_time_s: 0.6,
+            duty_factor: 0.7,
+            swing_height_m: 0.06,
+            bob_m: 0.01,
+            sway_m: 0.02,
+            foot_offset_m: HIP_HALF_WIDTH_M,
+            arm_swing_rad: 0.05,
+            elbow_rad: 0.2,
+            lean_rad: 0.0,
+            twist_rad: 0.02,
+            heel_strike_rad: 0.05,
+            toe_off_rad: 0.15,
+        }
+    }
+
     /// Walk: 1.35 m/s, about 124 steps per minute, 0.65 m steps.
     pub fn walk() -> Gait {
         Gait {
@@ -1001,6 +1021,19 @@ pub fn default_clips() -> Vec<Clip> {
         clips.push(start_clip(&gait));
         clips.push(stop_clip(&gait));
     }
+    // Turning on the spot: short shuffling steps that turn the body where it stands.
+    let shuffle = Gait::shuffle();
+    for deg in [30u32, 45] {
+        let left = locomotion(
+            &shuffle,
+            f64::from(deg).to_radians(),
+            DEFAULT_STEPS,
+            FRAME_RATE_HZ,
+            &format!("shuffle_left{deg}"),
+        );
+        let right = left.mirrored(&pairs, format!("shuffle_right{deg}"));
+        clips.extend([left, right]);
+    }
     clips.push(idle_clip(4.0));
     clips
 }
@@ -1252,7 +1285,7 @@ mod tests {
             steps += plants(clip);
         }
         assert!(steps >= 200, "{steps} steps");
-        assert_eq!(steps, 5 * 7 * DEFAULT_STEPS + 2 * (6 + 6 + 6 + 8 + 10) + 2 * 3);
+        assert_eq!(steps, 5 * 7 * DEFAULT_STEPS + 2 * (6 + 6 + 6 + 8 + 10) + 2 * 3 + 4 * DEFAULT_STEPS);
     }
 
     #[test]
