@@ -55,7 +55,7 @@ fn choose_next_interval(bencher: Bencher) {
     });
 }
 
-/// Building the built-in database (~270 intervals): contacts, intervals, samples, K nearest
+/// Building the built-in database (~290 intervals): contacts, intervals, samples, K nearest
 /// neighbours, candidates.
 #[divan::bench(sample_count = 10)]
 fn neighbours_builtin(bencher: Bencher) {
