@@ -37,6 +37,23 @@ pub use shape::Shape;
 
 use glam::DVec2;
 
+/// Wraps an angle to `(-π, π]`, radians.
+pub fn wrap_angle(a: f64) -> f64 {
+    let mut x = a % std::f64::consts::TAU;
+    if x <= -std::f64::consts::PI {
+        x += std::f64::consts::TAU;
+    } else if x > std::f64::consts::PI {
+        x -= std::f64::consts::TAU;
+    }
+    x
+}
+
+/// `3x² − 2x³` on `[0, 1]`, clamped outside: the smooth ramp used by blends and key frames.
+pub fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
 /// Largest accepted coordinate magnitude, in metres.
 ///
 /// Keeping coordinates below this bound keeps every product used by the exact orientation

@@ -274,7 +274,7 @@ impl Simulation {
             agent.sensed.scan.clone_from(&agent.scan);
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
-            agent.sensed.goal_angle = crate::world::sensing::wrap_angle(agent.heading_to_goal - pose.yaw);
+            agent.sensed.goal_angle = crate::geom::wrap_angle(agent.heading_to_goal - pose.yaw);
             agent.autopilot = agent.controller.command(&agent.sensed, visible, t);
             agent.command = agent.manual.unwrap_or(agent.autopilot);
         }

@@ -114,7 +114,7 @@ impl Ground {
     pub fn to_local(self, other: Ground) -> Ground {
         let (s, c) = self.yaw.sin_cos();
         let (dx, dy) = (other.x - self.x, other.y - self.y);
-        Ground { x: c * dx + s * dy, y: -s * dx + c * dy, yaw: crate::world::sensing::wrap_angle(other.yaw - self.yaw) }
+        Ground { x: c * dx + s * dy, y: -s * dx + c * dy, yaw: crate::geom::wrap_angle(other.yaw - self.yaw) }
     }
 
     /// The rotation about Z by this heading.

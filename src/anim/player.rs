@@ -13,6 +13,7 @@ use glam::{DQuat, DVec3};
 use super::clip::Ground;
 use super::db::Database;
 use super::skeleton::Pose;
+use crate::geom::smoothstep;
 
 /// How one interval hands over to the next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -280,7 +281,7 @@ impl Player {
             delta = Ground {
                 x: sd.x + (delta.x - sd.x) * w,
                 y: sd.y + (delta.y - sd.y) * w,
-                yaw: sd.yaw + crate::world::sensing::wrap_angle(delta.yaw - sd.yaw) * w,
+                yaw: sd.yaw + crate::geom::wrap_angle(delta.yaw - sd.yaw) * w,
             };
             if s.elapsed >= self.params.blend_s {
                 self.source = None;
@@ -409,8 +410,4 @@ impl Player {
 
 fn shortest(q: DQuat) -> DQuat {
     if q.w < 0.0 { -q } else { q }
-}
-
-fn smoothstep(t: f64) -> f64 {
-    t * t * (3.0 - 2.0 * t)
 }

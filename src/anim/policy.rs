@@ -18,8 +18,8 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use super::db::{Database, Fnv};
+use crate::geom::wrap_angle;
 use crate::rng;
-use crate::world::sensing::wrap_angle;
 
 /// Episodes per training round.
 pub const ROUND: u64 = 64;

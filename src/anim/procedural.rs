@@ -38,6 +38,7 @@ use glam::{DQuat, DVec2, DVec3};
 use super::actor::{self, ANKLE_HEIGHT_M, FOOT_FORWARD_M, HIP_HALF_WIDTH_M, PELVIS_HEIGHT_M, SHIN_M, THIGH_M};
 use super::clip::{Clip, Ground, mirror_pairs};
 use super::skeleton::{Pose, Skeleton};
+use crate::geom::{smoothstep, wrap_angle};
 
 /// Frame rate of the default clips, frames per second.
 pub const FRAME_RATE_HZ: f64 = 60.0;
@@ -351,12 +352,6 @@ impl KeyCurve {
     }
 }
 
-/// `3x² − 2x³` on `[0, 1]`, clamped outside.
-fn smoothstep(x: f64) -> f64 {
-    let x = x.clamp(0.0, 1.0);
-    x * x * (3.0 - 2.0 * x)
-}
-
 /// A weight going from `from` at `t0` to `to` at `t1` along a smoothstep.
 #[derive(Debug, Clone, Copy)]
 struct Ramp {
@@ -568,12 +563,6 @@ impl Rig {
 
 const SIDES: [f64; 2] = [1.0, -1.0];
 
-/// Wraps an angle to `(-π, π]`.
-fn wrap(a: f64) -> f64 {
-    let x = (a + PI).rem_euclid(2.0 * PI) - PI;
-    if x == -PI { PI } else { x }
-}
-
 /// Hip flexion (Y), hip abduction (X) and knee (Y) angles putting the ankle at `d` from the hip
 /// joint, in the pelvis frame; a target out of reach is moved along the hip–target line.
 fn leg_ik(d: DVec3) -> (f64, f64, f64) {
@@ -585,7 +574,7 @@ fn leg_ik(d: DVec3) -> (f64, f64, f64) {
     let l = t + s * knee.cos();
     let abduction = (d.y / l).clamp(-1.0, 1.0).asin();
     let (x, z) = (-s * knee.sin(), -l * abduction.cos());
-    let flex = wrap(d.x.atan2(d.z) - x.atan2(z));
+    let flex = wrap_angle(d.x.atan2(d.z) - x.atan2(z));
     (flex, abduction, knee)
 }
 
@@ -595,14 +584,14 @@ fn ankle_for_pitch(leg: DQuat, pitch: f64) -> f64 {
     let a = (leg * DVec3::X).z;
     let b = (leg * DVec3::Z).z;
     let r = a.hypot(b);
-    let planar = wrap(pitch - (-a).atan2(b));
+    let planar = wrap_angle(pitch - (-a).atan2(b));
     if r < 1e-9 {
         return planar;
     }
     let delta = b.atan2(a);
     let c = (-pitch.sin() / r).clamp(-1.0, 1.0).acos();
-    let (x1, x2) = (wrap(c - delta), wrap(-c - delta));
-    if wrap(x1 - planar).abs() <= wrap(x2 - planar).abs() { x1 } else { x2 }
+    let (x1, x2) = (wrap_angle(c - delta), wrap_angle(-c - delta));
+    if wrap_angle(x1 - planar).abs() <= wrap_angle(x2 - planar).abs() { x1 } else { x2 }
 }
 
 /// The largest toes-down pitch keeping the toe tip above the ground with the ankle at `z`.
@@ -1101,7 +1090,7 @@ mod tests {
 
     /// Total heading change over a clip, unwrapped frame to frame, radians.
     fn turned(clip: &Clip) -> f64 {
-        clip.frames.windows(2).map(|w| wrap(heading(w[1].rotations[0]) - heading(w[0].rotations[0]))).sum()
+        clip.frames.windows(2).map(|w| wrap_angle(heading(w[1].rotations[0]) - heading(w[0].rotations[0]))).sum()
     }
 
     #[test]

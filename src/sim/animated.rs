@@ -17,8 +17,8 @@ use super::body::{Body, Command, StepOutcome, slide};
 use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams};
 use crate::anim::policy::{Errors, Policy};
 use crate::anim::{Database, Ground};
+use crate::geom::wrap_angle;
 use crate::world::Pose;
-use crate::world::sensing::wrap_angle;
 
 /// Largest direction error the desired heading may run ahead of the character, radians.
 pub const MAX_DIRECTION_ERROR: f64 = 0.9 * std::f64::consts::PI;

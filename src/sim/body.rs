@@ -96,8 +96,7 @@ impl Body for KinematicDisc {
         let l = self.limits;
         let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
         let target = if command.speed.is_finite() { command.speed.clamp(0.0, l.max_speed) } else { 0.0 };
-        self.pose.yaw =
-            crate::world::sensing::wrap_angle(self.pose.yaw + turn.clamp(-l.max_turn_rate, l.max_turn_rate) * dt);
+        self.pose.yaw = crate::geom::wrap_angle(self.pose.yaw + turn.clamp(-l.max_turn_rate, l.max_turn_rate) * dt);
         let dv = (target - self.speed).clamp(-l.max_deceleration * dt, l.max_acceleration * dt);
         self.speed = (self.speed + dv).max(0.0);
         let distance = self.speed * dt;

@@ -30,8 +30,8 @@ use glam::DVec2;
 
 use super::follow::{FollowParams, FollowStep, follow_direction, swept_ahead};
 use crate::fuzzy::{Engine, Network};
+use crate::geom::wrap_angle;
 use crate::world::Sensed;
-use crate::world::sensing::wrap_angle;
 
 /// The inputs the controller provides to the rule network, by name.
 pub const PROVIDED_INPUTS: [&str; 10] = [

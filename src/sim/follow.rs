@@ -12,7 +12,7 @@
 //! does not try them; when nothing is open with the margin, the bare disc is tried.
 
 use super::Side;
-use crate::world::sensing::wrap_angle;
+use crate::geom::wrap_angle;
 
 /// Tuning of the geometric follower. Every field documents its default.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -10,7 +10,7 @@
 use glam::DVec2;
 
 use super::World;
-use crate::geom::Shape;
+use crate::geom::{Shape, wrap_angle};
 
 /// Sector boundaries relative to the heading (radians, ascending, counter-clockwise positive)
 /// and the sensing range (metres).
@@ -71,17 +71,6 @@ pub struct Sensed {
     /// Free distance of the disc along rays all around it (ray `i` at absolute angle
     /// `2πi/n`, capped at the range), metres; filled by the simulation's scan, empty when none.
     pub scan: Vec<f64>,
-}
-
-/// Wraps an angle to `(-π, π]`.
-pub fn wrap_angle(a: f64) -> f64 {
-    let mut x = a % std::f64::consts::TAU;
-    if x <= -std::f64::consts::PI {
-        x += std::f64::consts::TAU;
-    } else if x > std::f64::consts::PI {
-        x -= std::f64::consts::TAU;
-    }
-    x
 }
 
 /// Folds one convex shape into the sensed distances.
