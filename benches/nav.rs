@@ -48,10 +48,11 @@ fn sense_and_control_cluttered(bencher: Bencher) {
     let mut scratch = Vec::new();
     let mut sensed = strider::world::Sensed::default();
     let mut t = 0.0;
+    let body = strider::sim::KinematicDisc::new(task.start, params.limits);
     bencher.bench_local(|| {
         let p = task.start.position + glam::DVec2::new(3.0 * (t * 0.1f64).sin(), 3.0 * (t * 0.13f64).cos());
         world.sense(p, t * 0.2, 0.3, task.goal, &params.layout, &[], &mut scratch, &mut sensed);
-        let c = controller.command(&sensed, false, t);
+        let c = controller.command(&sensed, false, t, &body);
         t += 0.05;
         black_box(c)
     });

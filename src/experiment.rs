@@ -38,13 +38,25 @@ pub struct EpisodeRecord {
     pub path_ratio: Option<f64>,
     /// Smallest gap between the agent and any obstacle, metres.
     pub min_clearance_m: f64,
-    /// Steps the body refused or shortened because it would have hit something.
+    /// Simulation steps taken.
+    pub steps: u32,
+    /// Stalled steps: the body refused or shortened a step because it would have hit
+    /// something, or stood against a command to move because nothing ahead was clear.
     pub stalls: u32,
     /// Times boundary following started.
     pub boundary_follows: u32,
     /// Animated body only: mean horizontal slide of contact feet, centimetres per 60 Hz frame.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub foot_skating_cm_per_frame: Option<f64>,
+    /// Animated body only: Σ contact weight of the skating measure (to weigh episodes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_weight: Option<f64>,
+    /// Animated body only: foot plants (touch-down to lift-off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plants: Option<u64>,
+    /// Animated body only: plants whose heel or toe slid 2 cm or more.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sliding_plants: Option<u64>,
     /// Animated body only: mean pose distance (Eq. 1) at transitions between intervals.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub transition_cost: Option<f64>,
@@ -83,6 +95,17 @@ pub struct Summary {
     pub collisions: u64,
     /// Smallest clearance over all episodes, metres.
     pub min_clearance_m: f64,
+    /// Stalled steps over all steps.
+    pub stalled_share: f64,
+    /// Animated body: foot skating over all episodes (contact-weighted), cm per frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub foot_skating_cm_per_frame: Option<f64>,
+    /// Animated body: share of all foot plants that slid less than 2 cm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steady_plant_share: Option<f64>,
+    /// Animated body: transitions per simulated second.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transitions_per_s: Option<f64>,
 }
 
 /// A finished episode with its trail (for pictures).
@@ -129,9 +152,13 @@ pub fn run_episode(
         optimal_length_m: optimal,
         path_ratio: optimal.filter(|o| reached && *o > 0.0).map(|o| m.path_length_m / o),
         min_clearance_m: m.min_clearance_m,
-        stalls: m.blocked_steps,
+        steps: m.steps,
+        stalls: m.stalled_steps,
         boundary_follows: m.follows,
         foot_skating_cm_per_frame: playback.map(|p| p.foot_skating_cm_per_frame()),
+        contact_weight: playback.map(|p| p.contact_weight),
+        plants: playback.map(|p| p.plants),
+        sliding_plants: playback.map(|p| p.sliding_plants),
         transition_cost: playback.map(|p| p.mean_transition_cost()),
         transitions: playback.map(|p| p.transitions),
         peak_switch_jerk_mps3: playback.map(|p| p.peak_switch_jerk),
@@ -200,5 +227,26 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
         p90_path_ratio: quantile(0.9),
         collisions: records.iter().map(|r| u64::from(r.collisions)).sum(),
         min_clearance_m: records.iter().map(|r| r.min_clearance_m).fold(f64::INFINITY, f64::min),
+        stalled_share: records.iter().map(|r| f64::from(r.stalls)).sum::<f64>()
+            / records.iter().map(|r| f64::from(r.steps)).sum::<f64>().max(1.0),
+        foot_skating_cm_per_frame: {
+            let (s, w) =
+                records.iter().fold((0.0, 0.0), |(s, w), r| match (r.foot_skating_cm_per_frame, r.contact_weight) {
+                    (Some(k), Some(c)) => (s + k * c, w + c),
+                    _ => (s, w),
+                });
+            (w > 0.0).then(|| s / w)
+        },
+        steady_plant_share: {
+            let (p, slid) = records
+                .iter()
+                .fold((0u64, 0u64), |(p, s), r| (p + r.plants.unwrap_or(0), s + r.sliding_plants.unwrap_or(0)));
+            (p > 0).then(|| 1.0 - slid as f64 / p as f64)
+        },
+        transitions_per_s: {
+            let n: u64 = records.iter().filter_map(|r| r.transitions).sum();
+            let t: f64 = records.iter().filter(|r| r.transitions.is_some()).map(|r| r.time_s).sum();
+            (t > 0.0).then(|| n as f64 / t)
+        },
     }
 }

@@ -14,8 +14,9 @@ pub mod follow;
 use glam::DVec2;
 
 pub use animated::{AnimatedBody, Animation, AnimationHandle, Tracking, TrackingFigures, measure_tracking};
-pub use body::{Body, Command, DiscLimits, KinematicDisc, StepOutcome};
-pub use controller::{ControllerParams, LayeredController, Mode, Side};
+pub use body::{Body, Command, DiscLimits, KinematicDisc, OpenSpace, Space, StepOutcome};
+
+pub use controller::{ControllerParams, FollowState, LayeredController, Mode, NavInputs, Side, within_reach};
 
 use crate::world::{SectorLayout, Sensed, Task, World};
 
@@ -71,8 +72,12 @@ pub struct Metrics {
     pub min_clearance_m: f64,
     /// Steps that ended with the disc overlapping an obstacle or agent.
     pub collisions: u32,
-    /// Steps the body had to shorten or refuse because it would have hit something.
-    pub blocked_steps: u32,
+    /// Stalled steps: the body had to shorten or refuse a step because it would have hit
+    /// something, or stood (or turned on the spot) against a command to move because nothing
+    /// ahead was clear.
+    pub stalled_steps: u32,
+    /// Steps taken.
+    pub steps: u32,
     /// Times boundary following started.
     pub follows: u32,
 }
@@ -152,11 +157,52 @@ impl Body for AgentBody {
         }
     }
 
-    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome {
+    fn turn_limit(&self, speed: f64) -> f64 {
         match self {
-            AgentBody::Disc(d) => d.step(command, dt, free),
-            AgentBody::Animated(a) => a.step(command, dt, free),
+            AgentBody::Disc(d) => d.turn_limit(speed),
+            AgentBody::Animated(a) => a.turn_limit(speed),
         }
+    }
+
+    fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
+        match self {
+            AgentBody::Disc(d) => d.step(command, dt, space),
+            AgentBody::Animated(a) => a.step(command, dt, space),
+        }
+    }
+}
+
+/// What an agent's body sees while it moves: the world's obstacles and the other agents' discs.
+pub struct Surroundings<'a> {
+    /// The world.
+    pub world: &'a World,
+    /// The other agents (centre, radius).
+    pub others: &'a [(DVec2, f64)],
+    /// Scratch space for index queries.
+    pub scratch: &'a mut Vec<usize>,
+}
+
+impl Space for Surroundings<'_> {
+    fn clearance(&mut self, p: DVec2, max: f64) -> f64 {
+        let mut c = self.world.clearance(p, max, self.scratch);
+        for &(o, r) in self.others {
+            c = c.min((o.distance(p) - r).max(0.0));
+        }
+        c
+    }
+
+    fn segment_clearance(&mut self, a: DVec2, b: DVec2, max: f64) -> f64 {
+        let mut c = self.world.segment_clearance(a, b, max, self.scratch);
+        for &(o, r) in self.others {
+            if let Ok(disc) = crate::geom::Shape::circle(o, r) {
+                c = c.min(disc.segment_distance(a, b));
+            }
+        }
+        c
+    }
+
+    fn changes(&self) -> bool {
+        !self.others.is_empty()
     }
 }
 
@@ -205,7 +251,8 @@ impl Simulation {
                 path_length_m: 0.0,
                 min_clearance_m: clearance,
                 collisions: 0,
-                blocked_steps: 0,
+                stalled_steps: 0,
+                steps: 0,
                 follows: 0,
             },
             outcome: None,
@@ -275,7 +322,7 @@ impl Simulation {
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.goal_angle = crate::geom::wrap_angle(agent.heading_to_goal - pose.yaw);
-            agent.autopilot = agent.controller.command(&agent.sensed, visible, t);
+            agent.autopilot = agent.controller.command(&agent.sensed, visible, t, &agent.body);
             agent.command = agent.manual.unwrap_or(agent.autopilot);
         }
         // Move in order; each body may only stand where it overlaps nothing.
@@ -287,14 +334,13 @@ impl Simulation {
             let Simulation { world, agents, params, scratch, others, .. } = self;
             let agent = &mut agents[i];
             let radius = agent.body.radius();
-            let mut free = |p: DVec2| {
-                world.is_free(p, radius, scratch) && others.iter().all(|&(c, r)| c.distance(p) >= r + radius)
-            };
-            let step = agent.body.step(agent.command, dt, &mut free);
+            let mut space = Surroundings { world, others, scratch };
+            let step = agent.body.step(agent.command, dt, &mut space);
             let m = &mut agent.metrics;
             m.time_s = t + dt;
             m.path_length_m += step.moved_m;
-            m.blocked_steps += u32::from(step.blocked);
+            m.stalled_steps += u32::from(step.stalled());
+            m.steps += 1;
             m.follows = agent.controller.follow_count();
             let p = agent.body.pose().position;
             let mut gap = world.clearance(p, params.layout.range, scratch) - radius;

@@ -103,6 +103,22 @@ impl World {
         best
     }
 
+    /// Distance from the segment `a`–`b` to the nearest obstacle surface (0 when it touches
+    /// one), or `max` when nothing is nearer than `max`.
+    pub fn segment_clearance(&self, a: DVec2, b: DVec2, max: f64, scratch: &mut Vec<usize>) -> f64 {
+        self.index.query_capsule(a, b, max, scratch);
+        let mut best = max;
+        for &i in scratch.iter() {
+            best = best.min(self.parts[i].shape.segment_distance(a, b));
+        }
+        best
+    }
+
+    /// True when a disc of `radius` sliding from `a` to `b` overlaps no obstacle on the way.
+    pub fn sweep_is_free(&self, a: DVec2, b: DVec2, radius: f64, scratch: &mut Vec<usize>) -> bool {
+        self.segment_clearance(a, b, radius + 1e-9, scratch) >= radius
+    }
+
     /// True when a disc of `radius` at `p` overlaps no obstacle.
     pub fn is_free(&self, p: DVec2, radius: f64, scratch: &mut Vec<usize>) -> bool {
         self.clearance(p, radius + 1e-9, scratch) >= radius
@@ -136,5 +152,11 @@ mod tests {
         assert!(w.ray_cast(DVec2::ZERO, -DVec2::X, 100.0, &mut s).is_none());
         assert!(w.is_free(DVec2::ZERO, 0.3, &mut s));
         assert!(!w.is_free(DVec2::new(3.8, 0.0), 0.3, &mut s));
+        // A sweep past the box's corner, and one through it.
+        assert!(w.sweep_is_free(DVec2::new(3.0, 1.5), DVec2::new(7.0, 1.5), 0.4, &mut s));
+        assert!(!w.sweep_is_free(DVec2::new(3.0, 1.5), DVec2::new(7.0, 1.5), 0.6, &mut s));
+        assert!(!w.sweep_is_free(DVec2::new(3.0, 0.0), DVec2::new(7.0, 0.0), 0.1, &mut s));
+        let gap = w.segment_clearance(DVec2::new(3.0, 1.5), DVec2::new(7.0, 1.5), 10.0, &mut s);
+        assert!((gap - 0.5).abs() < 1e-12, "{gap}");
     }
 }

@@ -3,17 +3,24 @@
 //! files, animated navigation and the command line.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command as Process, Output};
 use std::sync::Arc;
 
-use strider::anim::policy::{Errors, Policy};
+use glam::DVec2;
+use strider::anim::player::{Chooser, Player, PlayerParams, SwitchPoint};
+use strider::anim::policy::{Errors, Policy, Strategy, evaluate};
+use strider::anim::{Database, Ground};
 use strider::cli::anim::{DEFAULT_POLICY, builtin_database, load_database, parse_intervals, save_database};
 use strider::experiment::run_episode;
 use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
-use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, StepParameters, measure_tracking};
+use strider::sim::{
+    AnimatedBody, Animation, AnimationHandle, Body, Command, ControllerParams, LayeredController, OpenSpace,
+    StepParameters, Surroundings, measure_tracking,
+};
+use strider::world::{Obstacle, ObstacleShape, Pose, World};
 
 fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
+    Process::new(env!("CARGO_BIN_EXE_strider"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
@@ -30,7 +37,7 @@ fn temp_dir(name: &str) -> PathBuf {
 fn animation() -> Arc<Animation> {
     let db = builtin_database().expect("built-in database");
     let policy = Policy::from_bytes(DEFAULT_POLICY, &db).expect("shipped policy matches the built-in database");
-    Arc::new(Animation { db, policy, player: Default::default() })
+    Arc::new(Animation::new(db, policy))
 }
 
 #[test]
@@ -193,4 +200,154 @@ fn command_line_database_and_training() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.bvh:4:"), "{err}");
+}
+
+/// Picks candidates in a fixed pseudo-random order and remembers the path predicted for each.
+struct Scripted {
+    k: usize,
+    predicted: Vec<Vec<DVec2>>,
+}
+
+impl Chooser for Scripted {
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize {
+        let c = (self.k * 7 + 3) % db.candidates[at.ending].len();
+        self.k += 1;
+        let mut path = Vec::new();
+        at.path(db, c, &mut path);
+        self.predicted.push(path);
+        c
+    }
+}
+
+fn walk_interval(db: &Database) -> usize {
+    db.intervals.iter().position(|i| db.clips[i.clip].name == "walk_straight").unwrap()
+}
+
+#[test]
+fn predicted_paths_are_the_played_paths() {
+    let a = animation();
+    let db = &a.db;
+    let mut chooser = Scripted { k: 0, predicted: Vec::new() };
+    let mut player = Player::new(db, walk_interval(db), Ground::default(), PlayerParams::default());
+    let mut trail = vec![DVec2::ZERO];
+    for _ in 0..3000 {
+        player.advance_frame(db, &mut chooser);
+        let g = player.ground();
+        trail.push(DVec2::new(g.x, g.y));
+    }
+    assert!(chooser.predicted.len() > 50);
+    // Every predicted point lies on the played root path (a polyline at 60 Hz).
+    let on_trail = |p: DVec2| {
+        trail
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                let t = ((p - a).dot(b - a) / (b - a).length_squared().max(1e-18)).clamp(0.0, 1.0);
+                p.distance(a + (b - a) * t)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut worst = 0.0f64;
+    for path in chooser.predicted.iter().take(chooser.predicted.len() - 1) {
+        for &p in path {
+            worst = worst.max(on_trail(p));
+        }
+    }
+    assert!(worst < 2e-3, "a predicted point is {worst} m off the played path");
+}
+
+#[test]
+fn locked_feet_stay_planted_through_transitions() {
+    let a = animation();
+    let db = &a.db;
+    let play = |locking: bool| {
+        let mut chooser = Scripted { k: 0, predicted: Vec::new() };
+        let params = PlayerParams { foot_locking: locking, ..PlayerParams::default() };
+        let mut player = Player::new(db, walk_interval(db), Ground::default(), params);
+        for _ in 0..3600 {
+            player.advance_frame(db, &mut chooser);
+        }
+        player.metrics
+    };
+    let (locked, free) = (play(true), play(false));
+    assert!(locked.transitions > 30, "{locked:?}");
+    assert!(locked.foot_skating_cm_per_frame() < free.foot_skating_cm_per_frame(), "{locked:?} {free:?}");
+    assert!(locked.steady_plant_share() >= 0.95, "{locked:?}");
+}
+
+#[test]
+fn the_character_looks_before_it_steps() {
+    // A wall across the way 4 m ahead: commanded to walk on, the character stops short of it
+    // with its clearance margin, without the last-resort guard ever holding its root.
+    let a = animation();
+    let wall = Obstacle::build(
+        ObstacleShape::Box { center: DVec2::new(4.5, 0.0), width: 1.0, height: 6.0, yaw: 0.0 },
+        0.0,
+        2.0,
+    )
+    .unwrap();
+    let world = World::new(vec![wall]);
+    let mut body = AnimatedBody::new(a.clone(), Pose { position: DVec2::ZERO, yaw: 0.0 }, 0.3);
+    let mut scratch = Vec::new();
+    let (mut blocked, mut held) = (0, 0);
+    for _ in 0..300 {
+        let mut space = Surroundings { world: &world, others: &[], scratch: &mut scratch };
+        let out = body.step(Command { turn_rate: 0.0, speed: 1.35 }, 0.05, &mut space);
+        blocked += u32::from(out.blocked);
+        held += u32::from(out.held);
+        let gap = world.clearance(body.pose().position, 5.0, &mut scratch) - body.radius();
+        assert!(gap >= a.clearance_m - 0.01, "gap {gap} m at {:?}", body.pose());
+    }
+    assert_eq!(blocked, 0, "the last-resort guard had to hold the root");
+    assert!(held > 0, "standing against the command counts as held");
+    assert!(body.pose().position.x > 2.5, "stopped early at {:?}", body.pose());
+}
+
+#[test]
+fn the_learnt_policy_earns_its_place() {
+    let a = animation();
+    let learnt = evaluate(&a.db, &a.policy, Strategy::Learnt, 4000, 5);
+    for s in [Strategy::Greedy, Strategy::Random, Strategy::Successor] {
+        let other = evaluate(&a.db, &a.policy, s, 4000, 5);
+        assert!(learnt.mean_return >= other.mean_return, "learnt {learnt:?} vs {} {other:?}", s.name());
+    }
+    assert!(a.policy.mirror_agreement(&a.db) >= 0.95, "{}", a.policy.mirror_agreement(&a.db));
+}
+
+#[test]
+fn every_interval_reaches_a_stop_and_turns_on_the_spot_in_one_switch() {
+    let db = builtin_database().unwrap();
+    for (i, cands) in db.candidates.iter().enumerate() {
+        let kinds: Vec<_> = cands.iter().map(|c| db.kinds[c.interval]).collect();
+        assert!(kinds.iter().any(|k| k.stops || k.in_place), "interval {i} cannot stop");
+        assert!(kinds.iter().any(|k| k.spot_turn > 0), "interval {i} cannot turn left on the spot");
+        assert!(kinds.iter().any(|k| k.spot_turn < 0), "interval {i} cannot turn right on the spot");
+        let sum: f64 = cands.iter().map(|c| c.weight).sum();
+        assert!((sum - 1.0).abs() < 1e-9);
+    }
+    // Every interval has its mirror, and mirrored intervals have mirrored candidates in order.
+    for i in 0..db.intervals.len() {
+        let m = db.mirror[i].unwrap_or_else(|| panic!("{} has no mirror", db.clips[db.intervals[i].clip].name));
+        assert_eq!(db.mirror[m], Some(i));
+        if m != i {
+            let mirrored: Vec<Option<usize>> = db.candidates[i].iter().map(|c| db.mirror[c.interval]).collect();
+            let there: Vec<Option<usize>> = db.candidates[m].iter().map(|c| Some(c.interval)).collect();
+            assert_eq!(mirrored, there, "candidates of {i} and its mirror {m}");
+        }
+    }
+}
+
+#[test]
+fn turning_ability_comes_from_the_database() {
+    let a = animation();
+    let body = AnimatedBody::new(a.clone(), Pose { position: DVec2::ZERO, yaw: 0.0 }, 0.3);
+    // Turning on the spot is quicker than turning while walking, and walking turns at least
+    // 60° a second.
+    assert!(body.turn_limit(0.0) > body.turn_limit(1.35));
+    assert!(body.turn_limit(1.35) > 60f64.to_radians(), "{}", body.turn_limit(1.35));
+    let mut b = body.clone();
+    for _ in 0..40 {
+        b.step(Command { turn_rate: 0.0, speed: 1.0 }, 0.05, &mut OpenSpace);
+    }
+    assert!(b.pose().position.x > 1.0);
 }

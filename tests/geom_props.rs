@@ -230,6 +230,36 @@ proptest! {
         let want: Vec<usize> = (0..items.len()).filter(|&i| items[i].intersects_segment(origin, dir, max_dist)).collect();
         prop_assert_eq!(got, want);
     }
+
+    #[test]
+    fn segment_distance_matches_dense_sampling(poly in polygon(), a in point(120.0), b in point(120.0), r in 0.1..20.0f64, c in point(60.0)) {
+        // The exact distance is never more than the distance of sampled points and never less
+        // than the smallest sample minus half the sample spacing.
+        for shape in [Shape::from(poly), Shape::circle(c, r).unwrap()] {
+            let d = shape.segment_distance(a, b);
+            let n = 4000;
+            let samples = (0..=n).map(|k| shape.distance(lerp(a, b, k as f64 / n as f64))).fold(f64::INFINITY, f64::min);
+            let spacing = a.distance(b) / n as f64;
+            prop_assert!(d <= samples + 1e-9, "exact {d} above sampled {samples}");
+            prop_assert!(d >= samples - spacing - 1e-9, "exact {d} below sampled {samples} by more than {spacing}");
+            prop_assert!(d >= 0.0);
+        }
+    }
+
+    #[test]
+    fn capsule_query_finds_everything_within_reach(items in boxes(), a in point(70.0), b in point(70.0), radius in 0.0..10.0f64) {
+        let index = SpatialIndex::build(&items);
+        let mut got = Vec::new();
+        index.query_capsule(a, b, radius, &mut got);
+        for (i, bx) in items.iter().enumerate() {
+            // Distance from the box to the segment, by sampling the segment densely.
+            let n = 400;
+            let d = (0..=n).map(|k| bx.distance(lerp(a, b, k as f64 / n as f64))).fold(f64::INFINITY, f64::min);
+            if d + a.distance(b) / n as f64 <= radius {
+                prop_assert!(got.contains(&i), "box {i} at {d} m missed");
+            }
+        }
+    }
 }
 
 fn check_decomposition(outline: &[DVec2]) -> Result<(), TestCaseError> {

@@ -243,7 +243,7 @@ fn animated_character_footprints_and_poses() {
     let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
     let db = builtin_database().unwrap();
     let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
-    let animation = AnimationHandle(Arc::new(Animation { db, policy, player: Default::default() }));
+    let animation = AnimationHandle(Arc::new(Animation::new(db, policy)));
     let params = StepParameters { animation: Some(animation), ..StepParameters::default() };
     let mut sim = Simulation::new(scenario.world(), params);
     sim.add_agent(scenario.tasks[0], &controller);

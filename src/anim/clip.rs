@@ -46,14 +46,7 @@ impl Clip {
     /// rotation reflected, and the rotations of paired joints swapped (`pairs[i]` is the joint
     /// mirroring joint `i`, itself for joints on the middle line).
     pub fn mirrored(&self, pairs: &[usize], name: String) -> Clip {
-        let frames = self
-            .frames
-            .iter()
-            .map(|p| Pose {
-                root: DVec3::new(p.root.x, -p.root.y, p.root.z),
-                rotations: pairs.iter().map(|&m| mirror_rotation(p.rotations[m])).collect(),
-            })
-            .collect();
+        let frames = self.frames.iter().map(|p| p.mirrored(pairs)).collect();
         Clip { name, frame_time: self.frame_time, frames }
     }
 }

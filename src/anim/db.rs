@@ -3,15 +3,26 @@
 //! K nearest neighbours of every interval with the weights of Eq. 3, and the candidates at each
 //! switch point (the natural successor and its neighbours).
 //!
-//! Intervals are found from foot contacts (foot height and speed) or given by hand. Each
-//! interval is resampled at `n + 1` normalized times in its own frame — start on the origin,
-//! facing +X — so comparing two intervals is a flat loop over precomputed samples.
+//! Intervals are found from foot contacts (the heights and speeds of each foot's heel and toe)
+//! or given by hand. Each interval is resampled at `n + 1` normalized times in its own frame —
+//! start on the origin, facing +X — so comparing two intervals is a flat loop over precomputed
+//! samples.
+//!
+//! Beyond the seed, the database knows what the controller's safety rules need: the root motion
+//! of every clip frame by frame ([`Database::ground`] is a lookup), which contact points touch
+//! the ground in every frame (for foot locking and honest skating figures), which intervals end
+//! at rest or stay in place, and the left–right mirror of every interval. Candidate lists are
+//! built mirror-symmetric (the candidates of an interval's mirror are the mirrors of its
+//! candidates, in the same order), and every interval can reach a stop and a turn on the spot
+//! in one switch: where the K pose neighbours lack them, the nearest such intervals are added,
+//! weighted by Eq. 3 like any candidate.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::clip::{Clip, Ground};
 use super::skeleton::{Pose, Skeleton, angle_between};
+use crate::geom::wrap_angle;
 
 /// Parameters of the database. Every field documents its default.
 #[derive(Debug, Clone, PartialEq)]
@@ -93,8 +104,9 @@ impl WeightParams {
     }
 }
 
-/// Foot contact detection: a foot is on the ground while its height above its lowest point in
-/// the clip is below `height_m` and its horizontal speed below `speed_mps`.
+/// Foot contact detection: a contact point (heel or toe) is on the ground while its height above
+/// its lowest point in the clip is below `height_m` and its horizontal speed below `speed_mps`; a
+/// foot is on the ground while either of its points is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactParams {
     /// Height threshold, metres (0.05).
@@ -111,6 +123,41 @@ pub struct ContactParams {
 impl Default for ContactParams {
     fn default() -> Self {
         ContactParams { height_m: 0.05, speed_mps: 0.5, min_frames: 3, feet: Vec::new() }
+    }
+}
+
+/// A root translation over an interval below this counts as staying in place, metres.
+pub const IN_PLACE_M: f64 = 0.1;
+/// A root speed over the last [`REST_WINDOW_S`] of an interval below this counts as at rest, m/s.
+pub const REST_SPEED_MPS: f64 = 0.05;
+/// Window at the end of an interval over which rest is judged, seconds.
+pub const REST_WINDOW_S: f64 = 0.15;
+/// A heading change over an in-place interval of at least this is a turn on the spot, radians.
+pub const SPOT_TURN_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+/// Largest spacing of the root-path points kept for clearance checks, metres.
+pub const SWEEP_SPACING_M: f64 = 0.1;
+/// Largest Eq. 2 distance between an interval's mirror image and another interval for the two
+/// to count as mirrors.
+pub const MIRROR_TOLERANCE: f64 = 1e-4;
+
+/// What an interval does, as far as stopping and turning are concerned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IntervalKind {
+    /// The root is at rest by the interval's end (a stop, standing).
+    pub ends_at_rest: bool,
+    /// The root moves less than [`IN_PLACE_M`] over the interval (standing, turning on the spot).
+    pub in_place: bool,
+    /// Turns on the spot: in place, heading change at least [`SPOT_TURN_RAD`]; +1 left, −1
+    /// right, 0 not a turn on the spot.
+    pub spot_turn: i8,
+    /// Comes to rest within two intervals: ends at rest, or its natural successor does.
+    pub stops: bool,
+}
+
+impl IntervalKind {
+    /// Safe to end a look-ahead on: standing, stopping or turning on the spot.
+    pub fn is_brake(&self) -> bool {
+        self.ends_at_rest || self.in_place
     }
 }
 
@@ -189,6 +236,10 @@ pub struct Candidate {
     pub weight: f64,
     /// Interval distance (Eq. 2) from the natural successor (0 for the successor itself).
     pub distance: f64,
+    /// Continues the ending interval's motion without a transition: its clip's next frames,
+    /// or a start pose equal to the ending pose (pose distance below
+    /// [`SEAMLESS`](super::player::SEAMLESS)).
+    pub seamless: bool,
 }
 
 /// The animation database.
@@ -200,20 +251,29 @@ pub struct Database {
     pub clips: Vec<Clip>,
     /// The intervals, clip by clip in time order.
     pub intervals: Vec<Interval>,
+    /// What each interval does (stops, stays in place, turns on the spot).
+    pub kinds: Vec<IntervalKind>,
     /// The K nearest neighbours of every interval with their distances, nearest first.
     pub neighbours: Vec<Vec<(usize, f64)>>,
     /// The natural successor of every interval: the next interval of its clip, or the interval
     /// whose start pose is nearest to its end pose when the clip ends there.
     pub successor: Vec<usize>,
     /// Candidates at the end of every interval: its successor first, then the successor's
-    /// neighbours.
+    /// neighbours, then any stop or turn on the spot the neighbours lack.
     pub candidates: Vec<Vec<Candidate>>,
+    /// The left–right mirror of every interval, when the database holds it.
+    pub mirror: Vec<Option<usize>>,
+    /// For intervals with a mirror: `mirror_candidate[i][a]` is the index, among the candidates
+    /// of `mirror[i]`, of the mirror of candidate `a` of `i` (empty without a mirror).
+    pub mirror_candidate: Vec<Vec<usize>>,
     /// The joint weights of Eq. 1.
     pub joint_weights: Vec<f64>,
     /// The foot joints (left, right).
     pub feet: [usize; 2],
-    /// Lowest height of each foot joint over the database, metres (its height when planted).
-    pub foot_floor: [f64; 2],
+    /// Heel and toe of each foot in the foot joint's frame, metres ([`contact_points`]).
+    pub contact_points: [[DVec3; 2]; 2],
+    /// Lowest height of each contact point over the database, metres (its height on the ground).
+    pub point_floor: [[f64; 2]; 2],
     /// The ε of Eq. 3.
     pub epsilon: f64,
     /// Parameters it was built with.
@@ -221,6 +281,13 @@ pub struct Database {
     /// Heading of the root's forward axis in the bind pose, radians.
     pub forward_offset: f64,
     samples: Vec<Vec<Pose>>,
+    /// Ground reference of every frame of every clip.
+    tracks: Vec<Vec<Ground>>,
+    /// Contact bits of every frame of every clip ([`detect_contacts`]).
+    contacts: Vec<Vec<u8>>,
+    /// Per interval, clip frames after its start whose root positions are at most
+    /// [`SWEEP_SPACING_M`] apart, ending with its last frame.
+    sweep_frames: Vec<Vec<usize>>,
 }
 
 /// Finds the left and right foot joints by name.
@@ -257,31 +324,117 @@ pub fn forward_offset(skeleton: &Skeleton, feet: [usize; 2]) -> f64 {
     if f.x.abs() + f.y.abs() < 1e-9 { 0.0 } else { f.y.atan2(f.x) }
 }
 
-/// Foot contacts of a clip: `contacts[foot][frame]`.
-pub fn detect_contacts(skeleton: &Skeleton, clip: &Clip, feet: [usize; 2], params: &ContactParams) -> [Vec<bool>; 2] {
-    let mut globals = Vec::new();
-    let mut pos: [Vec<DVec3>; 2] = [Vec::new(), Vec::new()];
-    for frame in &clip.frames {
-        skeleton.globals(frame, &mut globals);
-        for f in 0..2 {
-            pos[f].push(globals[feet[f]].0);
+/// The heel and the toe of each foot (`[foot][0]` heel, `[foot][1]` toe) in the foot joint's
+/// own frame, metres. The toe is the foot's farthest tip in the bind pose (an end site or a toe
+/// joint below it); the heel lies at the toe's height under the ankle, a quarter of the foot's
+/// length behind it. A foot without anything below it has both points at the ankle.
+pub fn contact_points(skeleton: &Skeleton, feet: [usize; 2]) -> [[DVec3; 2]; 2] {
+    let mut g = Vec::new();
+    skeleton.globals(&skeleton.bind_pose(), &mut g);
+    let joints = skeleton.joints();
+    let below = |j: usize, foot: usize| {
+        let mut k = Some(j);
+        while let Some(x) = k {
+            if x == foot {
+                return true;
+            }
+            k = joints[x].parent;
         }
-    }
-    let n = clip.frames.len();
-    let mut out = [vec![false; n], vec![false; n]];
+        false
+    };
+    feet.map(|f| {
+        let ankle = g[f].0;
+        let mut toe = ankle;
+        for j in (f..joints.len()).filter(|&j| below(j, f)) {
+            let mut tips = vec![g[j].0];
+            if let Some(e) = joints[j].end_site {
+                tips.push(g[j].0 + g[j].1 * e);
+            }
+            for t in tips {
+                if (t - ankle).truncate().length() > (toe - ankle).truncate().length() {
+                    toe = t;
+                }
+            }
+        }
+        let forward = (toe - ankle).truncate();
+        let heel = DVec3::new(ankle.x - 0.25 * forward.x, ankle.y - 0.25 * forward.y, toe.z);
+        let inv = g[f].1.inverse();
+        [inv * (heel - ankle), inv * (toe - ankle)]
+    })
+}
+
+/// Bit of `foot`'s heel (`point` 0) or toe (`point` 1) in a frame's contact bits.
+pub fn contact_bit(foot: usize, point: usize) -> u8 {
+    1 << (2 * foot + point)
+}
+
+/// World positions of the heel and toe of each foot, from the globals of a pose.
+pub fn point_positions(
+    globals: &[(DVec3, glam::DQuat)],
+    feet: [usize; 2],
+    points: &[[DVec3; 2]; 2],
+) -> [[DVec3; 2]; 2] {
+    [0, 1].map(|f| {
+        let (p, q) = globals[feet[f]];
+        [p + q * points[f][0], p + q * points[f][1]]
+    })
+}
+
+/// Contacts of a clip: per frame, the bits ([`contact_bit`]) of the heels and toes on the
+/// ground. A foot's contact runs and gaps shorter than `min_frames` are dropped first, then a
+/// point counts as down only while its foot is.
+pub fn detect_contacts(
+    skeleton: &Skeleton,
+    clip: &Clip,
+    feet: [usize; 2],
+    points: &[[DVec3; 2]; 2],
+    params: &ContactParams,
+) -> Vec<u8> {
+    let mut globals = Vec::new();
+    let pos: Vec<[[DVec3; 2]; 2]> = clip
+        .frames
+        .iter()
+        .map(|frame| {
+            skeleton.globals(frame, &mut globals);
+            point_positions(&globals, feet, points)
+        })
+        .collect();
+    let n = pos.len();
+    let mut bits = vec![0u8; n];
     for f in 0..2 {
-        let floor = pos[f].iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
-        for i in 0..n {
-            let (a, b) = if i == 0 { (0, 1.min(n - 1)) } else { (i - 1, i) };
-            let d = pos[f][b] - pos[f][a];
-            let speed = (d.x * d.x + d.y * d.y).sqrt() / clip.frame_time;
-            out[f][i] = pos[f][i].z - floor < params.height_m && speed < params.speed_mps;
+        let mut foot = vec![false; n];
+        for k in 0..2 {
+            let floor = pos.iter().map(|p| p[f][k].z).fold(f64::INFINITY, f64::min);
+            for i in 0..n {
+                let (a, b) = if i == 0 { (0, 1.min(n - 1)) } else { (i - 1, i) };
+                let d = pos[b][f][k] - pos[a][f][k];
+                let speed = (d.x * d.x + d.y * d.y).sqrt() / clip.frame_time;
+                if pos[i][f][k].z - floor < params.height_m && speed < params.speed_mps {
+                    bits[i] |= contact_bit(f, k);
+                    foot[i] = true;
+                }
+            }
         }
         // Drop short gaps, then short contacts.
-        fill_runs(&mut out[f], false, params.min_frames);
-        fill_runs(&mut out[f], true, params.min_frames);
+        fill_runs(&mut foot, false, params.min_frames);
+        fill_runs(&mut foot, true, params.min_frames);
+        for i in 0..n {
+            let both = contact_bit(f, 0) | contact_bit(f, 1);
+            if !foot[i] {
+                bits[i] &= !both;
+            } else if bits[i] & both == 0 {
+                // A gap filled in: the lower point is down.
+                let k = usize::from(pos[i][f][1].z < pos[i][f][0].z);
+                bits[i] |= contact_bit(f, k);
+            }
+        }
     }
-    out
+    bits
+}
+
+/// Per foot, whether it is on the ground in each frame of `bits`.
+pub fn foot_contacts(bits: &[u8]) -> [Vec<bool>; 2] {
+    [0, 1].map(|f| bits.iter().map(|b| b & (contact_bit(f, 0) | contact_bit(f, 1)) != 0).collect())
 }
 
 /// Flips interior runs of `value` shorter than `min` frames.
@@ -384,6 +537,9 @@ impl Database {
         }
         let feet = find_feet(&skeleton, &params.contacts.feet)?;
         let forward = forward_offset(&skeleton, feet);
+        let points = contact_points(&skeleton, feet);
+        let contacts: Vec<Vec<u8>> =
+            clips.iter().map(|c| detect_contacts(&skeleton, c, feet, &points, &params.contacts)).collect();
         let mut spans: Vec<(usize, usize, usize, u8)> = Vec::new();
         match manual {
             Some(list) => {
@@ -400,10 +556,9 @@ impl Database {
             }
             None => {
                 for (ci, c) in clips.iter().enumerate() {
-                    let contacts = detect_contacts(&skeleton, c, feet, &params.contacts);
                     let min = (params.min_interval_s / c.frame_time).round() as usize;
                     let max = (params.max_interval_s / c.frame_time).round() as usize;
-                    let b = plant_boundaries(&contacts, min, max);
+                    let b = plant_boundaries(&foot_contacts(&contacts[ci]), min, max);
                     for w in b.windows(2) {
                         spans.push((ci, w[0].0, w[1].0, w[0].1));
                     }
@@ -414,28 +569,40 @@ impl Database {
             return Err(DbError::TooFewIntervals(spans.len(), params.k + 1));
         }
         let mut globals = Vec::new();
-        let mut floor = [f64::INFINITY; 2];
+        let mut floor = [[f64::INFINITY; 2]; 2];
         for c in &clips {
             for f in &c.frames {
                 skeleton.globals(f, &mut globals);
-                for k in 0..2 {
-                    floor[k] = floor[k].min(globals[feet[k]].0.z);
+                let p = point_positions(&globals, feet, &points);
+                for (k, fl) in floor.iter_mut().enumerate() {
+                    for (j, x) in fl.iter_mut().enumerate() {
+                        *x = x.min(p[k][j].z);
+                    }
                 }
             }
         }
+        let tracks: Vec<Vec<Ground>> =
+            clips.iter().map(|c| c.frames.iter().map(|f| Ground::of(f, forward)).collect()).collect();
         let n = params.samples.max(1);
         let mut intervals = Vec::with_capacity(spans.len());
         let mut samples = Vec::with_capacity(spans.len());
+        let mut sweep_frames = Vec::with_capacity(spans.len());
         for &(ci, s, e, foot) in &spans {
             let c = &clips[ci];
-            let g0 = Ground::of(&c.frames[s], forward);
-            let g1 = Ground::of(&c.frames[e], forward);
+            let track = &tracks[ci];
+            let (g0, g1) = (track[s], track[e]);
             let duration = (e - s) as f64 * c.frame_time;
-            let mut path = 0.0;
-            for f in s..e {
-                let (a, b) = (c.frames[f].root, c.frames[f + 1].root);
-                path += ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+            let at = |f: usize| DVec2::new(track[f].x, track[f].y);
+            let path: f64 = (s..e).map(|f| at(f).distance(at(f + 1))).sum();
+            let mut sweep = Vec::new();
+            let mut last = at(s);
+            for f in s + 1..=e {
+                if f == e || at(f + 1).distance(last) > SWEEP_SPACING_M {
+                    sweep.push(f);
+                    last = at(f);
+                }
             }
+            sweep_frames.push(sweep);
             intervals.push(Interval {
                 clip: ci,
                 start: s,
@@ -460,24 +627,226 @@ impl Database {
             skeleton,
             clips,
             intervals,
+            kinds: Vec::new(),
             neighbours: Vec::new(),
             successor: Vec::new(),
             candidates: Vec::new(),
+            mirror: Vec::new(),
+            mirror_candidate: Vec::new(),
             joint_weights,
             feet,
-            foot_floor: floor,
+            contact_points: points,
+            point_floor: floor,
             epsilon: 0.0,
             params,
             forward_offset: forward,
             samples,
+            tracks,
+            contacts,
+            sweep_frames,
         };
+        db.mirror = db.find_mirrors();
+        // Mirrors share their measured motion exactly (mirrored), so that left and right
+        // choices never part on rounding.
+        for i in 0..db.intervals.len() {
+            if let Some(m) = db.mirror[i]
+                && m > i
+            {
+                let a = db.intervals[i].motion;
+                db.intervals[m].speed = db.intervals[i].speed;
+                db.intervals[m].motion = Ground { x: a.x, y: -a.y, yaw: -a.yaw };
+            }
+        }
         db.neighbours = db.nearest_neighbours();
+        db.symmetrize_neighbours();
         db.successor = (0..db.intervals.len()).map(|i| db.natural_successor(i)).collect();
+        for i in 0..db.intervals.len() {
+            if let Some(m) = db.mirror[i]
+                && i < m
+                && let Some(s) = db.mirror[db.successor[i]]
+            {
+                db.successor[m] = s;
+            }
+        }
+        db.kinds = (0..db.intervals.len()).map(|i| db.kind_of(i)).collect();
         let mean: f64 = db.neighbours.iter().flatten().map(|&(_, d)| d).sum::<f64>()
             / db.neighbours.iter().map(Vec::len).sum::<usize>().max(1) as f64;
         db.epsilon = (0.5 * mean).max(1e-6);
-        db.candidates = (0..db.intervals.len()).map(|i| db.candidates_after(i)).collect();
+        db.candidates = db.build_candidates();
+        db.mirror_candidate = (0..db.intervals.len())
+            .map(|i| match db.mirror[i] {
+                Some(m) => {
+                    let want: Vec<Option<usize>> = db.candidates[i]
+                        .iter()
+                        .map(|c| {
+                            db.mirror[c.interval].and_then(|mc| db.candidates[m].iter().position(|x| x.interval == mc))
+                        })
+                        .collect();
+                    if want.iter().all(Option::is_some) { want.into_iter().flatten().collect() } else { Vec::new() }
+                }
+                None => Vec::new(),
+            })
+            .collect();
         Ok(db)
+    }
+
+    /// The kind of interval `i`; needs the successors.
+    fn kind_of(&self, i: usize) -> IntervalKind {
+        let rest = |j: usize| {
+            let iv = &self.intervals[j];
+            let ft = self.clips[iv.clip].frame_time;
+            let back = ((REST_WINDOW_S / ft).round() as usize).clamp(1, iv.end - iv.start);
+            let (a, b) = (self.tracks[iv.clip][iv.end - back], self.tracks[iv.clip][iv.end]);
+            (b.x - a.x).hypot(b.y - a.y) / (back as f64 * ft) < REST_SPEED_MPS
+        };
+        let iv = &self.intervals[i];
+        let track = &self.tracks[iv.clip];
+        let g0 = track[iv.start];
+        let far = (iv.start..=iv.end).map(|f| (track[f].x - g0.x).hypot(track[f].y - g0.y)).fold(0.0, f64::max);
+        let in_place = far < IN_PLACE_M;
+        let spot_turn = if in_place && iv.turn().abs() >= SPOT_TURN_RAD { iv.turn().signum() as i8 } else { 0 };
+        let ends_at_rest = rest(i);
+        IntervalKind { ends_at_rest, in_place, spot_turn, stops: ends_at_rest || rest(self.successor[i]) }
+    }
+
+    /// The mirror of every interval: the interval whose samples equal its mirrored samples within
+    /// [`MIRROR_TOLERANCE`] — itself if it is symmetric, else preferably the one at the same place
+    /// in a clip of the same length — kept only where the pairing is mutual.
+    fn find_mirrors(&self) -> Vec<Option<usize>> {
+        let pairs = super::clip::mirror_pairs(&self.skeleton);
+        let (w, wr) = (&self.joint_weights, self.params.weights.root_position);
+        let n = self.intervals.len();
+        let position = |i: usize| {
+            let iv = &self.intervals[i];
+            self.intervals[..i].iter().filter(|x| x.clip == iv.clip).count()
+        };
+        let found: Vec<Option<usize>> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let mirrored: Vec<Pose> = self.samples[i].iter().map(|p| p.mirrored(&pairs)).collect();
+                let iv = &self.intervals[i];
+                let mut matches: Vec<usize> = (0..n)
+                    .filter(|&j| {
+                        interval_distance(w, wr, &mirrored, &self.samples[j], MIRROR_TOLERANCE) < MIRROR_TOLERANCE
+                    })
+                    .collect();
+                let rank = |j: usize| {
+                    let jv = &self.intervals[j];
+                    let twin = self.clips[jv.clip].frames.len() == self.clips[iv.clip].frames.len()
+                        && position(j) == position(i);
+                    (j != i, !twin, j)
+                };
+                matches.sort_by_key(|&j| rank(j));
+                matches.first().copied()
+            })
+            .collect();
+        (0..n).map(|i| found[i].filter(|&j| found[j] == Some(i))).collect()
+    }
+
+    /// Makes the neighbour lists mirror-symmetric: the neighbours of an interval's mirror are
+    /// the mirrors of its neighbours (computed for the lower index of each pair), and a symmetric
+    /// interval's list holds the mirror of each of its neighbours.
+    fn symmetrize_neighbours(&mut self) {
+        let n = self.intervals.len();
+        for i in 0..n {
+            match self.mirror[i] {
+                Some(m) if m > i => {
+                    let mapped: Option<Vec<(usize, f64)>> =
+                        self.neighbours[i].iter().map(|&(j, d)| self.mirror[j].map(|mj| (mj, d))).collect();
+                    if let Some(list) = mapped {
+                        self.neighbours[m] = list;
+                    }
+                }
+                Some(m) if m == i => {
+                    let mut list = self.neighbours[i].clone();
+                    for &(j, d) in &self.neighbours[i] {
+                        if let Some(mj) = self.mirror[j]
+                            && mj != i
+                            && !list.iter().any(|&(x, _)| x == mj)
+                        {
+                            list.push((mj, d));
+                        }
+                    }
+                    list.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                    self.neighbours[i] = list;
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// The candidates after every interval: its successor, the successor's neighbours, and —
+    /// where none of those stops or turns on the spot to one side — the interval nearest to the
+    /// successor (Eq. 2) that does, with the mirror of anything added to a symmetric interval.
+    /// Mirror pairs get mirrored lists in the same order.
+    fn build_candidates(&self) -> Vec<Vec<Candidate>> {
+        let n = self.intervals.len();
+        let nearest_where = |s: usize, want: &dyn Fn(&IntervalKind) -> bool| -> Option<(usize, f64)> {
+            let mut best: Option<(usize, f64)> = None;
+            for j in (0..n).filter(|&j| want(&self.kinds[j])) {
+                let d = self.interval_distance(s, j);
+                if best.is_none_or(|b| d < b.1) {
+                    best = Some((j, d));
+                }
+            }
+            best
+        };
+        let list = |i: usize| -> Vec<(usize, f64)> {
+            let s = self.successor[i];
+            let mut c = vec![(s, 0.0)];
+            c.extend(self.neighbours[s].iter().copied());
+            let wants: [&dyn Fn(&IntervalKind) -> bool; 3] =
+                [&|k| k.stops || k.in_place, &|k| k.spot_turn > 0, &|k| k.spot_turn < 0];
+            for want in wants {
+                if !c.iter().any(|&(j, _)| want(&self.kinds[j]))
+                    && let Some((j, d)) = nearest_where(s, want)
+                {
+                    c.push((j, d));
+                    if self.mirror[i] == Some(i)
+                        && let Some(mj) = self.mirror[j]
+                        && !c.iter().any(|&(x, _)| x == mj)
+                    {
+                        c.push((mj, d));
+                    }
+                }
+            }
+            c
+        };
+        let mut lists: Vec<Option<Vec<(usize, f64)>>> = vec![None; n];
+        for i in 0..n {
+            if lists[i].is_some() {
+                continue;
+            }
+            let l = list(i);
+            if let Some(m) = self.mirror[i]
+                && m != i
+            {
+                let mapped: Option<Vec<(usize, f64)>> =
+                    l.iter().map(|&(j, d)| self.mirror[j].map(|x| (x, d))).collect();
+                if let Some(ml) = mapped {
+                    lists[m] = Some(ml);
+                }
+            }
+            lists[i] = Some(l);
+        }
+        lists
+            .into_iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let c = l.unwrap_or_default();
+                let iv = &self.intervals[i];
+                let end = self.relative_pose(iv.clip, iv.end as f64);
+                let total: f64 = c.iter().map(|&(_, d)| 1.0 / (d + self.epsilon)).sum();
+                c.into_iter()
+                    .map(|(j, d)| {
+                        let jv = &self.intervals[j];
+                        let seamless = (jv.clip == iv.clip && jv.start == iv.end)
+                            || self.pose_distance(&end, &self.samples[j][0]) < super::player::SEAMLESS;
+                        Candidate { interval: j, weight: 1.0 / (d + self.epsilon) / total, distance: d, seamless }
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// Pose distance, Eq. 1: `w_root·|r − r'|² + Σ_i w_i·θ(q_i, q'_i)²`.
@@ -573,16 +942,6 @@ impl Database {
         best.0
     }
 
-    fn candidates_after(&self, i: usize) -> Vec<Candidate> {
-        let s = self.successor[i];
-        let mut c = vec![(s, 0.0)];
-        c.extend(self.neighbours[s].iter().copied());
-        let total: f64 = c.iter().map(|&(_, d)| 1.0 / (d + self.epsilon)).sum();
-        c.into_iter()
-            .map(|(j, d)| Candidate { interval: j, weight: 1.0 / (d + self.epsilon) / total, distance: d })
-            .collect()
-    }
-
     /// The pose of clip `clip` at fractional frame `f`, relative to its own ground reference
     /// (root above the origin, facing +X).
     pub fn relative_pose(&self, clip: usize, f: f64) -> Pose {
@@ -591,9 +950,46 @@ impl Database {
         p
     }
 
-    /// The ground reference of clip `clip` at fractional frame `f`.
+    /// The ground reference of clip `clip` at fractional frame `f` (clamped to the clip),
+    /// interpolated between the two frames around it.
     pub fn ground(&self, clip: usize, f: f64) -> Ground {
-        Ground::of(&self.clips[clip].sample_frame(f), self.forward_offset)
+        let track = &self.tracks[clip];
+        let last = track.len() - 1;
+        let f = if f.is_finite() { f.clamp(0.0, last as f64) } else { 0.0 };
+        let i = (f.floor() as usize).min(last);
+        let (a, b) = (track[i], track[(i + 1).min(last)]);
+        let t = f - i as f64;
+        if t == 0.0 {
+            return a;
+        }
+        Ground { x: a.x + (b.x - a.x) * t, y: a.y + (b.y - a.y) * t, yaw: a.yaw + wrap_angle(b.yaw - a.yaw) * t }
+    }
+
+    /// The contact bits ([`contact_bit`]) of clip `clip` at fractional frame `f` (nearest frame).
+    pub fn contacts(&self, clip: usize, f: f64) -> u8 {
+        let c = &self.contacts[clip];
+        let i = if f.is_finite() { (f.round().max(0.0) as usize).min(c.len() - 1) } else { 0 };
+        c[i]
+    }
+
+    /// Appends to `out` the world path of interval `i`'s root played with its start at `from`
+    /// (no blend): `from` itself, then the positions at its sweep frames.
+    pub fn interval_path(&self, i: usize, from: Ground, out: &mut Vec<DVec2>) {
+        let iv = &self.intervals[i];
+        let track = &self.tracks[iv.clip];
+        let start = track[iv.start];
+        out.push(DVec2::new(from.x, from.y));
+        for &f in &self.sweep_frames[i] {
+            let g = from.then(start.to_local(track[f]));
+            out.push(DVec2::new(g.x, g.y));
+        }
+    }
+
+    /// Clip frames of interval `i` after its start whose root positions are at most
+    /// [`SWEEP_SPACING_M`] apart, ending with its last frame: the points a clearance check of
+    /// its root path visits.
+    pub fn sweep_frames(&self, i: usize) -> &[usize] {
+        &self.sweep_frames[i]
     }
 
     /// A fingerprint of the structure (clip names and lengths, intervals, candidates) that a

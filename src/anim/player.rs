@@ -4,16 +4,28 @@
 //! interval) or by inertialization (the pose offset at the switch decays by a critically damped
 //! spring), and root motion integrated frame by frame so the character's path is continuous.
 //!
-//! The player also measures what a viewer would notice: foot skating (horizontal slide of
-//! contact feet, at the foot joint, weighted by `2 − 2^(h/H)` below `H` = 2.5 cm), the pose distance at each
-//! switch, peak joint jerk around switches, and footprints.
+//! Root motion lives in [`RootMotion`], a small state that playback and look-ahead share: at a
+//! switch point a [`Chooser`] can ask, for any candidate, for the exact world path the root
+//! would take ([`SwitchPoint::path`]), blend included, before anything is played.
+//!
+//! **Foot locking** (seed 002 §4.1's two-link leg IK): while the database says a foot is on the
+//! ground, its contact point (heel, or toe once the heel lifts) is held where it touched down.
+//! Blends and corrections that would move it are undone by a two-bone IK of hip and knee, the
+//! foot keeping its animated orientation; at lift-off the correction fades out over
+//! [`PlayerParams::release_s`]. So switching intervals never slides or teleports a planted foot.
+//!
+//! The player also measures what a viewer would notice: foot skating at the heel and toe
+//! contact points (horizontal slide `d` per frame weighted by `2 − 2^(h/H)` while the point is
+//! below `H` = [`CONTACT_HEIGHT_M`]), the share of foot plants sliding 2 cm or more
+//! ([`PERCEPTIBLE_SLIDE_CM`]), the pose distance at each switch, peak joint jerk around
+//! switches, and footprints.
 
-use glam::{DQuat, DVec3};
+use glam::{DQuat, DVec2, DVec3};
 
 use super::clip::Ground;
-use super::db::Database;
+use super::db::{Database, contact_bit, point_positions};
 use super::skeleton::Pose;
-use crate::geom::smoothstep;
+use crate::geom::{smoothstep, wrap_angle};
 
 /// How one interval hands over to the next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -32,25 +44,43 @@ pub struct PlayerParams {
     pub transition: TransitionKind,
     /// Cross-fade time, seconds (0.2).
     pub blend_s: f64,
+    /// Cross-fade time of an early switch (something unexpected mid-interval), seconds (0.1).
+    pub early_blend_s: f64,
     /// Half-life of the inertialization offset, seconds (0.08).
     pub halflife_s: f64,
     /// Playback frame rate, frames per second (60).
     pub frame_rate: f64,
+    /// Hold planted feet with leg IK (true).
+    pub foot_locking: bool,
+    /// Time over which a foot's lock correction fades out after lift-off, seconds (0.12).
+    pub release_s: f64,
 }
 
 impl Default for PlayerParams {
     fn default() -> Self {
-        PlayerParams { transition: TransitionKind::CrossFade, blend_s: 0.2, halflife_s: 0.08, frame_rate: 60.0 }
+        PlayerParams {
+            transition: TransitionKind::CrossFade,
+            blend_s: 0.2,
+            early_blend_s: 0.1,
+            halflife_s: 0.08,
+            frame_rate: 60.0,
+            foot_locking: true,
+            release_s: 0.12,
+        }
     }
 }
 
-/// Height below which a foot counts as in contact for the skating measure, metres (2.5 cm).
+/// Height below which a contact point counts for the skating measure, metres (2.5 cm).
 pub const CONTACT_HEIGHT_M: f64 = 0.025;
+/// A foot plant sliding this much or more is perceptible, centimetres.
+pub const PERCEPTIBLE_SLIDE_CM: f64 = 2.0;
 /// Pose distance (Eq. 1) below which a switch continues the motion seamlessly, needing no
 /// transition.
 pub const SEAMLESS: f64 = 1e-4;
 /// Window around a switch in which joint jerk is watched, seconds.
 pub const JERK_WINDOW_S: f64 = 0.25;
+/// Frames between the points a look-ahead path records while a cross-fade is blending.
+const BLEND_PATH_EVERY: usize = 3;
 
 /// A foot plant seen during playback.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,12 +100,18 @@ pub struct Footprint {
 pub struct PlaybackMetrics {
     /// Frames played.
     pub frames: u64,
-    /// Σ weight × horizontal slide of contact feet, centimetres.
+    /// Σ weight × horizontal slide of the heel and toe points, centimetres.
     pub skate_weighted_cm: f64,
     /// Σ contact weight.
     pub contact_weight: f64,
+    /// Foot plants completed (touch-down to lift-off).
+    pub plants: u64,
+    /// Plants whose contact points slid [`PERCEPTIBLE_SLIDE_CM`] or more.
+    pub sliding_plants: u64,
     /// Switch points passed.
     pub switches: u64,
+    /// Early switches (mid-interval, something unexpected ahead).
+    pub early_switches: u64,
     /// Switches to something other than the clip's own next interval.
     pub transitions: u64,
     /// Σ pose distance (Eq. 1) between what was playing and what starts, over transitions.
@@ -87,23 +123,225 @@ pub struct PlaybackMetrics {
 }
 
 impl PlaybackMetrics {
-    /// Mean slide of contact feet per frame, centimetres (0 without contact).
+    /// Mean slide of contact points per frame, centimetres (0 without contact).
     pub fn foot_skating_cm_per_frame(&self) -> f64 {
         if self.contact_weight > 0.0 { self.skate_weighted_cm / self.contact_weight } else { 0.0 }
+    }
+
+    /// Share of completed plants that slid less than [`PERCEPTIBLE_SLIDE_CM`] (1 without plants).
+    pub fn steady_plant_share(&self) -> f64 {
+        if self.plants > 0 { 1.0 - self.sliding_plants as f64 / self.plants as f64 } else { 1.0 }
     }
 
     /// Mean pose distance at transitions (0 without any).
     pub fn mean_transition_cost(&self) -> f64 {
         if self.transitions > 0 { self.transition_cost / self.transitions as f64 } else { 0.0 }
     }
+
+    /// Adds another playback's counts and sums (peaks take the larger).
+    pub fn absorb(&mut self, o: &PlaybackMetrics) {
+        self.frames += o.frames;
+        self.skate_weighted_cm += o.skate_weighted_cm;
+        self.contact_weight += o.contact_weight;
+        self.plants += o.plants;
+        self.sliding_plants += o.sliding_plants;
+        self.switches += o.switches;
+        self.early_switches += o.early_switches;
+        self.transitions += o.transitions;
+        self.transition_cost += o.transition_cost;
+        self.peak_switch_jerk = self.peak_switch_jerk.max(o.peak_switch_jerk);
+        self.peak_jerk = self.peak_jerk.max(o.peak_jerk);
+    }
 }
 
-#[derive(Debug, Clone)]
+/// The source of a cross-fade: its clip keeps playing while its weight falls.
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Source {
     clip: usize,
     frame: f64,
     elapsed: f64,
+    /// Blend time, seconds.
+    span: f64,
+    /// Ground of the source clip at `frame` (clip coordinates).
     ground: Ground,
+}
+
+/// Root motion of a playback: the interval playing, where in it, the character's ground
+/// reference in the world, and the source of a blend. Playback and look-ahead step the same
+/// state, so a predicted path is the path that will be played.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RootMotion {
+    interval: usize,
+    frame: f64,
+    /// Ground reference of the playing clip at `frame` (clip coordinates).
+    clip_ground: Ground,
+    /// The character's ground reference in the world.
+    world: Ground,
+    source: Option<Source>,
+}
+
+impl RootMotion {
+    /// Starts interval `next` right here (this frame, clip ground and world reference are the
+    /// switch point): the clip playing becomes the source of a cross-fade of `blend_s` seconds
+    /// (with 0, any blend still running goes on).
+    fn begin(&mut self, db: &Database, next: usize, blend_s: f64) {
+        if blend_s > 0.0 {
+            let clip = db.intervals[self.interval].clip;
+            self.source =
+                Some(Source { clip, frame: self.frame, elapsed: 0.0, span: blend_s, ground: self.clip_ground });
+        }
+        let nv = &db.intervals[next];
+        self.interval = next;
+        self.frame = nv.start as f64;
+        self.clip_ground = db.ground(nv.clip, self.frame);
+    }
+
+    /// Plays `dt` seconds within the interval playing (stopping at its end), blending the root
+    /// motion with a cross-fade's source.
+    fn advance_by(&mut self, db: &Database, dt: f64) {
+        let iv = &db.intervals[self.interval];
+        let ft = db.clips[iv.clip].frame_time;
+        self.frame = (self.frame + dt / ft).min(iv.end as f64);
+        let g = db.ground(iv.clip, self.frame);
+        let mut delta = self.clip_ground.to_local(g);
+        self.clip_ground = g;
+        if let Some(s) = &mut self.source {
+            s.elapsed += dt;
+            let sft = db.clips[s.clip].frame_time;
+            let last = (db.clips[s.clip].frames.len() - 1) as f64;
+            s.frame = (s.frame + dt / sft).min(last);
+            let sg = db.ground(s.clip, s.frame);
+            let sd = s.ground.to_local(sg);
+            s.ground = sg;
+            let w = smoothstep((s.elapsed / s.span).min(1.0));
+            delta = Ground {
+                x: sd.x + (delta.x - sd.x) * w,
+                y: sd.y + (delta.y - sd.y) * w,
+                yaw: sd.yaw + wrap_angle(delta.yaw - sd.yaw) * w,
+            };
+            if s.elapsed >= s.span {
+                self.source = None;
+            }
+        }
+        self.world = self.world.then(delta);
+    }
+
+    /// Plays one frame of `h` seconds. When it passes the end of the interval playing, the
+    /// frame is split there: `switch` is asked, at the switch point, for the next interval and
+    /// its blend time, and the rest of the frame plays in it. Returns `(ending, next)` then.
+    fn step(
+        &mut self,
+        db: &Database,
+        h: f64,
+        switch: &mut dyn FnMut(&RootMotion) -> (usize, f64),
+    ) -> Option<(usize, usize)> {
+        let iv = &db.intervals[self.interval];
+        let ft = db.clips[iv.clip].frame_time;
+        if self.frame + h / ft < iv.end as f64 - 1e-9 {
+            self.advance_by(db, h);
+            return None;
+        }
+        let to_end = ((iv.end as f64 - self.frame) * ft).clamp(0.0, h);
+        self.advance_by(db, to_end);
+        let ending = self.interval;
+        let (next, blend_s) = switch(self);
+        self.begin(db, next, blend_s);
+        if h - to_end > 0.0 {
+            self.advance_by(db, h - to_end);
+        }
+        Some((ending, next))
+    }
+
+    /// The cross-fade weight of the destination now (1 without a blend).
+    fn weight(&self) -> f64 {
+        self.source.map_or(1.0, |s| smoothstep((s.elapsed / s.span).clamp(0.0, 1.0)))
+    }
+
+    /// Appends to `out` the world positions of the root over the rest of the interval playing,
+    /// starting with where it is: every few frames while blending, then at the interval's
+    /// sweep frames ([`Database::sweep_frames`]) — consecutive points at most about
+    /// [`super::db::SWEEP_SPACING_M`] apart — ending at its end.
+    fn path(mut self, db: &Database, h: f64, out: &mut Vec<DVec2>) {
+        out.push(DVec2::new(self.world.x, self.world.y));
+        let end = db.intervals[self.interval].end as f64;
+        let mut k = 0;
+        while self.source.is_some() && self.frame < end - 1e-9 {
+            self.advance_by(db, h);
+            k += 1;
+            if k % BLEND_PATH_EVERY == 0 || self.source.is_none() {
+                out.push(DVec2::new(self.world.x, self.world.y));
+            }
+        }
+        let iv = &db.intervals[self.interval];
+        for &f in db.sweep_frames(self.interval) {
+            if (f as f64) > self.frame + 1e-9 {
+                let g = self.world.then(self.clip_ground.to_local(db.ground(iv.clip, f as f64)));
+                out.push(DVec2::new(g.x, g.y));
+            }
+        }
+    }
+
+    /// The world reference at the end of the interval playing.
+    fn end(mut self, db: &Database, h: f64) -> Ground {
+        let iv = &db.intervals[self.interval];
+        while self.source.is_some() && self.frame < iv.end as f64 - 1e-9 {
+            self.advance_by(db, h);
+        }
+        self.world.then(self.clip_ground.to_local(db.ground(iv.clip, iv.end as f64)))
+    }
+}
+
+/// A switch point: the interval ending, the character's ground reference there, and the root
+/// motion state from which any candidate's path can be predicted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SwitchPoint {
+    /// The interval that ends (or, for an early switch, is cut short).
+    pub ending: usize,
+    /// The character's ground reference at the switch, world.
+    pub ground: Ground,
+    /// True for an early switch in the middle of an interval.
+    pub early: bool,
+    root: RootMotion,
+    blend_s: f64,
+    h: f64,
+}
+
+impl SwitchPoint {
+    fn started(&self, db: &Database, choice: usize) -> RootMotion {
+        let c = &db.candidates[self.ending][choice];
+        let mut r = self.root;
+        r.begin(db, c.interval, if c.seamless && !self.early { 0.0 } else { self.blend_s });
+        r
+    }
+
+    /// Appends to `out` the world path of the root if candidate `choice` (an index into
+    /// `db.candidates[self.ending]`) starts here: the switch point first, then points at most
+    /// about [`super::db::SWEEP_SPACING_M`] apart to its end, the cross-fade included — the
+    /// path playback would take.
+    pub fn path(&self, db: &Database, choice: usize, out: &mut Vec<DVec2>) {
+        self.started(db, choice).path(db, self.h, out);
+    }
+
+    /// The world ground reference at the end of candidate `choice` started here.
+    pub fn end_of(&self, db: &Database, choice: usize) -> Ground {
+        self.started(db, choice).end(db, self.h)
+    }
+}
+
+/// What the player decides at a switch point: the index of the candidate (in
+/// `db.candidates[at.ending]`) to play next.
+pub trait Chooser {
+    /// Picks a candidate.
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize;
+}
+
+/// Always the natural successor.
+pub struct Natural;
+
+impl Chooser for Natural {
+    fn choose(&mut self, _: &Database, _: &SwitchPoint) -> usize {
+        0
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -116,20 +354,21 @@ struct Inertial {
     elapsed: f64,
 }
 
-/// What the player decides at a switch point: given the interval that ends, the index of the
-/// candidate (in `db.candidates[interval]`) to play next.
-pub trait Chooser {
-    /// Picks a candidate.
-    fn choose(&mut self, db: &Database, ending: usize, heading: f64) -> usize;
-}
-
-/// Always the natural successor.
-pub struct Natural;
-
-impl Chooser for Natural {
-    fn choose(&mut self, _: &Database, _: usize, _: f64) -> usize {
-        0
-    }
+/// The lock of one foot.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct FootLock {
+    /// On the ground now (by the database's contacts).
+    down: bool,
+    /// Contact point held: 0 heel, 1 toe.
+    pivot: usize,
+    /// Where the held point stays, world (horizontal).
+    anchor: DVec2,
+    /// Horizontal correction added to the animated ankle, world.
+    correction: DVec2,
+    /// Correction at lift-off and time since, while it fades out.
+    fading: Option<(DVec2, f64)>,
+    /// Slide of the current plant so far, centimetres.
+    slide_cm: f64,
 }
 
 /// Plays intervals with transitions and root motion.
@@ -137,12 +376,7 @@ impl Chooser for Natural {
 pub struct Player {
     /// Parameters.
     pub params: PlayerParams,
-    interval: usize,
-    frame: f64,
-    /// Ground reference of the destination clip at the current frame (clip coordinates).
-    clip_ground: Ground,
-    world: Ground,
-    source: Option<Source>,
+    root: RootMotion,
     inertial: Option<Inertial>,
     rel: Pose,
     scratch: Pose,
@@ -151,7 +385,8 @@ pub struct Player {
     history: Vec<Vec<DVec3>>,
     recent_jerk: Vec<f64>,
     since_switch: Option<usize>,
-    feet_prev: [Option<DVec3>; 2],
+    points_prev: Option<[[DVec3; 2]; 2]>,
+    locks: [FootLock; 2],
     /// Measurements so far.
     pub metrics: PlaybackMetrics,
     /// Foot plants so far.
@@ -165,15 +400,16 @@ impl Player {
     /// reference in the world).
     pub fn new(db: &Database, interval: usize, at: Ground, params: PlayerParams) -> Player {
         let iv = &db.intervals[interval];
-        let ground = db.ground(iv.clip, iv.start as f64);
         let rel = db.relative_pose(iv.clip, iv.start as f64);
         let mut p = Player {
             params,
-            interval,
-            frame: iv.start as f64,
-            clip_ground: ground,
-            world: at,
-            source: None,
+            root: RootMotion {
+                interval,
+                frame: iv.start as f64,
+                clip_ground: db.ground(iv.clip, iv.start as f64),
+                world: at,
+                source: None,
+            },
             inertial: None,
             scratch: rel.clone(),
             pose: rel.clone(),
@@ -182,7 +418,8 @@ impl Player {
             history: Vec::new(),
             recent_jerk: Vec::new(),
             since_switch: None,
-            feet_prev: [None, None],
+            points_prev: None,
+            locks: [FootLock::default(); 2],
             metrics: PlaybackMetrics::default(),
             footprints: Vec::new(),
             played: vec![(0, interval)],
@@ -193,23 +430,24 @@ impl Player {
 
     /// The interval playing.
     pub fn interval(&self) -> usize {
-        self.interval
+        self.root.interval
     }
 
     /// Seconds into the interval playing.
     pub fn time_in_interval(&self, db: &Database) -> f64 {
-        let iv = &db.intervals[self.interval];
-        (self.frame - iv.start as f64) * db.clips[iv.clip].frame_time
+        let iv = &db.intervals[self.root.interval];
+        (self.root.frame - iv.start as f64) * db.clips[iv.clip].frame_time
+    }
+
+    /// Seconds left until the interval playing reaches its switch point.
+    pub fn time_to_switch(&self, db: &Database) -> f64 {
+        let iv = &db.intervals[self.root.interval];
+        (iv.end as f64 - self.root.frame).max(0.0) * db.clips[iv.clip].frame_time
     }
 
     /// The character's ground reference in the world.
     pub fn ground(&self) -> Ground {
-        self.world
-    }
-
-    /// Moves the character's ground reference (root motion corrected by the world).
-    pub fn set_ground(&mut self, g: Ground) {
-        self.world = g;
+        self.root.world
     }
 
     /// The current pose in the world.
@@ -219,73 +457,161 @@ impl Player {
 
     /// True while a transition is blending.
     pub fn blending(&self) -> bool {
-        self.source.is_some() || self.inertial.is_some()
+        self.root.source.is_some() || self.inertial.is_some()
+    }
+
+    /// Appends to `out` the world path of the root over the rest of the interval playing (see
+    /// [`SwitchPoint::path`]).
+    pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
+        self.root.path(db, 1.0 / self.params.frame_rate, out);
+    }
+
+    /// The world ground reference at the end of the interval playing.
+    pub fn interval_end(&self, db: &Database) -> Ground {
+        self.root.end(db, 1.0 / self.params.frame_rate)
+    }
+
+    /// The switch point an early switch made now would start from.
+    pub fn switch_point_now(&self) -> SwitchPoint {
+        SwitchPoint {
+            ending: self.root.interval,
+            ground: self.root.world,
+            early: true,
+            root: self.root,
+            blend_s: self.blend_time(true),
+            h: 1.0 / self.params.frame_rate,
+        }
+    }
+
+    /// The switch point at the end of the interval playing (where the next choice will be made).
+    pub fn upcoming_switch(&self, db: &Database) -> SwitchPoint {
+        let h = 1.0 / self.params.frame_rate;
+        let mut root = self.root;
+        let iv = &db.intervals[root.interval];
+        let ft = db.clips[iv.clip].frame_time;
+        root.advance_by(db, ((iv.end as f64 - root.frame) * ft).max(0.0));
+        SwitchPoint {
+            ending: root.interval,
+            ground: root.world,
+            early: false,
+            root,
+            blend_s: self.blend_time(false),
+            h,
+        }
+    }
+
+    fn blend_time(&self, early: bool) -> f64 {
+        match self.params.transition {
+            TransitionKind::CrossFade if early => self.params.early_blend_s,
+            TransitionKind::CrossFade => self.params.blend_s,
+            TransitionKind::Inertialize => 0.0,
+        }
+    }
+
+    /// Cuts the interval playing short and starts candidate `choice` of it now, with the short
+    /// blend of an early switch. Planted feet stay locked.
+    pub fn switch_now(&mut self, db: &Database, choice: usize) {
+        let ending = self.root.interval;
+        let c = db.candidates[ending][choice.min(db.candidates[ending].len() - 1)];
+        let src = self.rel.clone();
+        let src_next = {
+            let iv = &db.intervals[ending];
+            let ft = db.clips[iv.clip].frame_time;
+            let last = (db.clips[iv.clip].frames.len() - 1) as f64;
+            db.relative_pose(iv.clip, (self.root.frame + 1.0 / (self.params.frame_rate * ft)).min(last))
+        };
+        self.metrics.early_switches += 1;
+        self.metrics.switches += 1;
+        let blend = self.blend_time(true);
+        self.root.begin(db, c.interval, blend);
+        self.transition(db, c.interval, &src, &src_next);
+        self.refresh_pose(db);
+        self.compose(db);
+    }
+
+    /// Puts the root back where it was (a safety stop: where the motion led is not free);
+    /// planted feet stay locked, so nothing jumps.
+    pub fn hold(&mut self, db: &Database, at: Ground) {
+        self.root.world = at;
+        self.compose(db);
     }
 
     /// Plays one frame (`1 / frame_rate` seconds), asking `chooser` at switch points.
     pub fn advance_frame(&mut self, db: &Database, chooser: &mut dyn Chooser) {
         let h = 1.0 / self.params.frame_rate;
-        let iv = &db.intervals[self.interval];
-        let ft = db.clips[iv.clip].frame_time;
-        let mut next_frame = self.frame + h / ft;
-        let mut delta;
-        if next_frame >= iv.end as f64 - 1e-9 {
-            // Switch point: finish this interval, then start the chosen one.
-            let over = (next_frame - iv.end as f64).max(0.0) * ft;
-            let end_ground = db.ground(iv.clip, iv.end as f64);
-            let to_end = self.clip_ground.to_local(end_ground);
-            let ending = self.interval;
-            let choice = chooser.choose(db, ending, self.world.then(to_end).yaw).min(db.candidates[ending].len() - 1);
-            let next = db.candidates[ending][choice].interval;
-            let nv = &db.intervals[next];
-            // The clip's own next frames, or a start that continues the pose seamlessly (a
-            // cyclic clip wrapping around), need no transition.
-            let natural = (nv.clip == iv.clip && nv.start == iv.end)
-                || db.pose_distance(
-                    &db.relative_pose(iv.clip, iv.end as f64),
-                    db.samples(next).first().expect("samples"),
-                ) < SEAMLESS;
+        let blend_s = self.blend_time(false);
+        let mut seamless = true;
+        let before = self.root;
+        let switched = self.root.step(db, h, &mut |root| {
+            let point =
+                SwitchPoint { ending: root.interval, ground: root.world, early: false, root: *root, blend_s, h };
+            let cands = &db.candidates[root.interval];
+            let c = cands[chooser.choose(db, &point).min(cands.len() - 1)];
+            seamless = c.seamless;
+            (c.interval, if c.seamless { 0.0 } else { blend_s })
+        });
+        if let Some((ending, next)) = switched {
             self.metrics.switches += 1;
-            self.played.push((self.metrics.frames, next));
-            if !natural {
-                self.start_transition(db, ending, next, over);
+            if seamless {
+                self.played.push((self.metrics.frames, next));
+            } else {
+                let iv = &db.intervals[ending];
+                let ft = db.clips[iv.clip].frame_time;
+                let last = (db.clips[iv.clip].frames.len() - 1) as f64;
+                let src = db.relative_pose(iv.clip, iv.end as f64);
+                let src_next = db.relative_pose(iv.clip, (iv.end as f64 + h / ft).min(last));
+                let _ = before;
+                self.transition(db, next, &src, &src_next);
             }
-            self.interval = next;
-            let nft = db.clips[nv.clip].frame_time;
-            next_frame = nv.start as f64 + over / nft;
-            let start_ground = db.ground(nv.clip, nv.start as f64);
-            let g = db.ground(nv.clip, next_frame);
-            delta = to_end.then(start_ground.to_local(g));
-            self.clip_ground = g;
-        } else {
-            let g = db.ground(iv.clip, next_frame);
-            delta = self.clip_ground.to_local(g);
-            self.clip_ground = g;
         }
-        self.frame = next_frame;
-        let iv = &db.intervals[self.interval];
-        self.rel = db.relative_pose(iv.clip, self.frame);
-        // Blend with the source of a cross-fade: pose and root motion alike.
-        if let Some(s) = &mut self.source {
-            s.elapsed += h;
-            let sft = db.clips[s.clip].frame_time;
-            let last = (db.clips[s.clip].frames.len() - 1) as f64;
-            s.frame = (s.frame + h / sft).min(last);
-            let g = db.ground(s.clip, s.frame);
-            let sd = s.ground.to_local(g);
-            s.ground = g;
-            let w = smoothstep((s.elapsed / self.params.blend_s).min(1.0));
+        self.refresh_pose(db);
+        self.metrics.frames += 1;
+        self.compose(db);
+    }
+
+    /// Bookkeeping of a transition to `next` from the pose `src` (and the one a frame later,
+    /// `src_next`): cost, jerk window, and the inertialization offsets.
+    fn transition(&mut self, db: &Database, next: usize, src: &Pose, src_next: &Pose) {
+        let h = 1.0 / self.params.frame_rate;
+        let nv = &db.intervals[next];
+        let dst = db.relative_pose(nv.clip, nv.start as f64);
+        self.metrics.transitions += 1;
+        self.metrics.transition_cost += db.pose_distance(src, &dst);
+        self.since_switch = Some(0);
+        if let Some(&j) = self.recent_jerk.iter().max_by(|a, b| a.total_cmp(b)) {
+            self.metrics.peak_switch_jerk = self.metrics.peak_switch_jerk.max(j);
+        }
+        self.played.push((self.metrics.frames, next));
+        self.inertial = None;
+        if self.params.transition == TransitionKind::Inertialize {
+            let dst1 = db.relative_pose(nv.clip, nv.start as f64 + h / db.clips[nv.clip].frame_time);
+            let off = |a: &Pose, b: &Pose| -> Vec<DVec3> {
+                a.rotations
+                    .iter()
+                    .zip(&b.rotations)
+                    .map(|(&qa, &qb)| shortest(qa * qb.inverse()).to_scaled_axis())
+                    .collect()
+            };
+            let x0 = off(src, &dst);
+            let x1 = off(src_next, &dst1);
+            let v0 = x0.iter().zip(&x1).map(|(a, b)| (*b - *a) / h).collect();
+            let z0 = src.root.z - dst.root.z;
+            let zv0 = ((src_next.root.z - dst1.root.z) - z0) / h;
+            self.inertial = Some(Inertial { x0, v0, z0, zv0, elapsed: -h });
+        }
+    }
+
+    /// The relative pose of this frame: the destination, blended with a cross-fade's source or
+    /// offset by inertialization.
+    fn refresh_pose(&mut self, db: &Database) {
+        let h = 1.0 / self.params.frame_rate;
+        let iv = &db.intervals[self.root.interval];
+        self.rel = db.relative_pose(iv.clip, self.root.frame);
+        if let Some(s) = &self.root.source {
+            let w = smoothstep((s.elapsed / s.span).clamp(0.0, 1.0));
             self.scratch = db.relative_pose(s.clip, s.frame);
             let dst = std::mem::replace(&mut self.rel, self.scratch.clone());
             self.rel.blend_from(&self.scratch, &dst, w);
-            delta = Ground {
-                x: sd.x + (delta.x - sd.x) * w,
-                y: sd.y + (delta.y - sd.y) * w,
-                yaw: sd.yaw + crate::geom::wrap_angle(delta.yaw - sd.yaw) * w,
-            };
-            if s.elapsed >= self.params.blend_s {
-                self.source = None;
-            }
         }
         if let Some(k) = &mut self.inertial {
             k.elapsed += h;
@@ -301,86 +627,105 @@ impl Player {
                 self.inertial = None;
             }
         }
-        self.world = self.world.then(delta);
-        self.metrics.frames += 1;
-        self.compose(db);
     }
 
-    fn start_transition(&mut self, db: &Database, ending: usize, next: usize, over: f64) {
-        let iv = &db.intervals[ending];
-        let nv = &db.intervals[next];
-        let src = db.relative_pose(iv.clip, iv.end as f64);
-        let dst = db.relative_pose(nv.clip, nv.start as f64);
-        self.metrics.transitions += 1;
-        self.metrics.transition_cost += db.pose_distance(&src, &dst);
-        self.since_switch = Some(0);
-        if let Some(&j) = self.recent_jerk.iter().max_by(|a, b| a.total_cmp(b)) {
-            self.metrics.peak_switch_jerk = self.metrics.peak_switch_jerk.max(j);
-        }
-        let ft = db.clips[iv.clip].frame_time;
-        match self.params.transition {
-            TransitionKind::CrossFade => {
-                let frame = iv.end as f64 + over / ft;
-                let last = (db.clips[iv.clip].frames.len() - 1) as f64;
-                self.source = Some(Source {
-                    clip: iv.clip,
-                    frame: frame.min(last) - 1.0 / (self.params.frame_rate * ft),
-                    elapsed: -1.0 / self.params.frame_rate,
-                    ground: db.ground(iv.clip, (frame.min(last) - 1.0 / (self.params.frame_rate * ft)).max(0.0)),
-                });
-                self.inertial = None;
-            }
-            TransitionKind::Inertialize => {
-                // Offsets between where the motion was going and where it now starts, and
-                // their rates from one frame further on both sides.
-                let h = 1.0 / self.params.frame_rate;
-                let last = (db.clips[iv.clip].frames.len() - 1) as f64;
-                let src1 = db.relative_pose(iv.clip, (iv.end as f64 + h / ft).min(last));
-                let nft = db.clips[nv.clip].frame_time;
-                let dst1 = db.relative_pose(nv.clip, nv.start as f64 + h / nft);
-                let off = |a: &Pose, b: &Pose| -> Vec<DVec3> {
-                    a.rotations
-                        .iter()
-                        .zip(&b.rotations)
-                        .map(|(&qa, &qb)| shortest(qa * qb.inverse()).to_scaled_axis())
-                        .collect()
-                };
-                let x0 = off(&src, &dst);
-                let x1 = off(&src1, &dst1);
-                let v0 = x0.iter().zip(&x1).map(|(a, b)| (*b - *a) / h).collect();
-                let z0 = src.root.z - dst.root.z;
-                let zv0 = ((src1.root.z - dst1.root.z) - z0) / h;
-                self.inertial = Some(Inertial { x0, v0, z0, zv0, elapsed: -h });
-                self.source = None;
-            }
+    /// Which feet the database has on the ground now: the destination's contacts, or during a
+    /// cross-fade the side with the larger weight.
+    fn contacts_now(&self, db: &Database) -> u8 {
+        let iv = &db.intervals[self.root.interval];
+        let dst = db.contacts(iv.clip, self.root.frame);
+        match &self.root.source {
+            Some(s) if self.root.weight() < 0.5 => db.contacts(s.clip, s.frame),
+            _ => dst,
         }
     }
 
-    /// World pose from the relative pose, then the measurements of this frame.
+    /// World pose from the relative pose, foot locking, then the measurements of this frame.
     fn compose(&mut self, db: &Database) {
         self.pose.clone_from(&self.rel);
-        self.world.transform_pose(&mut self.pose, false);
+        self.root.world.transform_pose(&mut self.pose, false);
         db.skeleton.globals(&self.pose, &mut self.globals);
         let h = 1.0 / self.params.frame_rate;
+        let bits = self.contacts_now(db);
+        let points = point_positions(&self.globals, db.feet, &db.contact_points);
+        let mut changed = false;
         for f in 0..2 {
-            // Contact and slide of the foot joint (the ankle), the point the clips plant.
-            let p = self.globals[db.feet[f]].0;
-            let height = p.z - db.foot_floor[f];
-            if let Some(prev) = self.feet_prev[f] {
-                if height < CONTACT_HEIGHT_M {
-                    let w = 2.0 - (height.max(0.0) / CONTACT_HEIGHT_M).exp2();
-                    let slide = ((p.x - prev.x).powi(2) + (p.y - prev.y).powi(2)).sqrt() * 100.0;
-                    self.metrics.skate_weighted_cm += w * slide;
-                    self.metrics.contact_weight += w;
-                    if prev.z - db.foot_floor[f] >= CONTACT_HEIGHT_M {
-                        self.footprints.push(Footprint { x: p.x, y: p.y, yaw: self.world.yaw, foot: f as u8 });
+            let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
+            let height = |k: usize| points[f][k].z - db.point_floor[f][k];
+            let lock = &mut self.locks[f];
+            if down {
+                let lower = usize::from(height(1) < height(0));
+                if !lock.down {
+                    // Touch-down: hold the lower point where it is (plus any correction still
+                    // fading from the last plant, so nothing jumps).
+                    let c = lock.fading.map_or(DVec2::ZERO, |(c, t)| c * (1.0 - t / self.params.release_s).max(0.0));
+                    *lock = FootLock {
+                        down: true,
+                        pivot: lower,
+                        anchor: points[f][lower].truncate() + c,
+                        correction: c,
+                        fading: None,
+                        slide_cm: 0.0,
+                    };
+                    let ankle = self.globals[db.feet[f]].0;
+                    self.footprints.push(Footprint {
+                        x: ankle.x + c.x,
+                        y: ankle.y + c.y,
+                        yaw: self.root.world.yaw,
+                        foot: f as u8,
+                    });
+                } else if lower != lock.pivot && (height(lock.pivot) - height(lower)) > 0.003 {
+                    // The foot rolls onto its other point: hold that one from here on.
+                    lock.anchor = points[f][lower].truncate() + lock.correction;
+                    lock.pivot = lower;
+                }
+                lock.correction = lock.anchor - points[f][lock.pivot].truncate();
+            } else if lock.down {
+                self.metrics.plants += 1;
+                if lock.slide_cm >= PERCEPTIBLE_SLIDE_CM {
+                    self.metrics.sliding_plants += 1;
+                }
+                *lock = FootLock { fading: Some((lock.correction, 0.0)), ..FootLock::default() };
+            } else if let Some((c, t)) = lock.fading {
+                let t = t + h;
+                lock.fading = (t < self.params.release_s).then_some((c, t));
+                lock.correction = c * (1.0 - smoothstep(t / self.params.release_s));
+            } else {
+                lock.correction = DVec2::ZERO;
+            }
+            if self.params.foot_locking && lock.correction.length_squared() > 1e-12 {
+                leg_ik(db, &mut self.pose, &self.globals, db.feet[f], lock.correction.extend(0.0));
+                changed = true;
+            }
+        }
+        if changed {
+            db.skeleton.globals(&self.pose, &mut self.globals);
+        }
+        self.measure(db, h);
+    }
+
+    fn measure(&mut self, db: &Database, h: f64) {
+        // Skating at the heel and toe points.
+        let points = point_positions(&self.globals, db.feet, &db.contact_points);
+        if let Some(prev) = self.points_prev {
+            for f in 0..2 {
+                let mut frame_slide = 0.0f64;
+                for k in 0..2 {
+                    let height = points[f][k].z - db.point_floor[f][k];
+                    if height < CONTACT_HEIGHT_M {
+                        let w = 2.0 - (height.max(0.0) / CONTACT_HEIGHT_M).exp2();
+                        let d = (points[f][k] - prev[f][k]).truncate().length() * 100.0;
+                        self.metrics.skate_weighted_cm += w * d;
+                        self.metrics.contact_weight += w;
+                        frame_slide = frame_slide.max(w * d);
                     }
                 }
-            } else if height < CONTACT_HEIGHT_M {
-                self.footprints.push(Footprint { x: p.x, y: p.y, yaw: self.world.yaw, foot: f as u8 });
+                if self.locks[f].down {
+                    self.locks[f].slide_cm += frame_slide;
+                }
             }
-            self.feet_prev[f] = Some(p);
         }
+        self.points_prev = Some(points);
         // Joint jerk by third differences of world positions.
         let positions: Vec<DVec3> = self.globals.iter().map(|g| g.0).collect();
         self.history.push(positions);
@@ -406,6 +751,45 @@ impl Player {
             }
         }
     }
+}
+
+/// Two-bone leg IK: moves the ankle `foot` of `pose` (world pose, globals `g`) by `shift`
+/// (world) by turning its hip and knee, the knee staying in the plane it bends in, and keeps
+/// the foot's world orientation. A target out of reach is approached as far as the leg goes.
+fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, shift: DVec3) {
+    let joints = db.skeleton.joints();
+    let Some(knee) = joints[foot].parent else { return };
+    let Some(hip) = joints[knee].parent else { return };
+    let hip_parent_rot = joints[hip].parent.map_or(DQuat::IDENTITY, |p| g[p].1);
+    let (hp, kp, ap) = (g[hip].0, g[knee].0, g[foot].0);
+    let (l1, l2) = ((kp - hp).length(), (ap - kp).length());
+    if l1 < 1e-6 || l2 < 1e-6 {
+        return;
+    }
+    let target = ap + shift;
+    let to_t = target - hp;
+    let d = to_t.length().clamp((l1 - l2).abs() + 1e-6, l1 + l2 - 1e-6);
+    let u = if to_t.length() > 1e-9 { to_t / to_t.length() } else { (ap - hp).normalize_or_zero() };
+    // The knee's side: where it is now, off the hip–target line (else forward of the pelvis).
+    let mut pole = (kp - hp) - u * (kp - hp).dot(u);
+    if pole.length_squared() < 1e-10 {
+        pole = g[0].1 * DVec3::X;
+        pole -= u * pole.dot(u);
+    }
+    let pole = pole.normalize_or_zero();
+    let a = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
+    let knee_to = hp + u * a + pole * (l1 * l1 - a * a).max(0.0).sqrt();
+    let ankle_to = hp + u * d;
+    let hip_rot = DQuat::from_rotation_arc((kp - hp) / l1, (knee_to - hp).normalize()) * g[hip].1;
+    let knee_rot0 = hip_rot * pose.rotations[knee];
+    let ankle_now = knee_to + knee_rot0 * joints[foot].offset;
+    let knee_rot = DQuat::from_rotation_arc(
+        (ankle_now - knee_to).normalize_or(DVec3::NEG_Z),
+        (ankle_to - knee_to).normalize_or(DVec3::NEG_Z),
+    ) * knee_rot0;
+    pose.rotations[hip] = (hip_parent_rot.inverse() * hip_rot).normalize();
+    pose.rotations[knee] = (hip_rot.inverse() * knee_rot).normalize();
+    pose.rotations[foot] = (knee_rot.inverse() * g[foot].1).normalize();
 }
 
 fn shortest(q: DQuat) -> DQuat {

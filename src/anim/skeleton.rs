@@ -203,6 +203,16 @@ pub struct Pose {
 }
 
 impl Pose {
+    /// The pose mirrored across the XZ plane: root Y negated, every rotation reflected, and the
+    /// rotations of paired joints swapped (`pairs[i]` mirrors joint `i`; see
+    /// [`mirror_pairs`](super::clip::mirror_pairs)).
+    pub fn mirrored(&self, pairs: &[usize]) -> Pose {
+        Pose {
+            root: DVec3::new(self.root.x, -self.root.y, self.root.z),
+            rotations: pairs.iter().map(|&m| super::clip::mirror_rotation(self.rotations[m])).collect(),
+        }
+    }
+
     /// Interpolates: root linearly, rotations by shortest-arc slerp.
     pub fn lerp(&self, other: &Pose, t: f64) -> Pose {
         let mut out = self.clone();

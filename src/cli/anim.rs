@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 use super::{Failure, Outcome, write_atomic};
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::player::{PlayerParams, TransitionKind};
-use crate::anim::policy::{LearnParams, Policy, StateGrid};
+use crate::anim::policy::{LearnParams, Policy, StateGrid, Strategy};
 use crate::anim::{Clip, Database, DbParams, IntervalSpec, Skeleton};
 use crate::diagnostic::SourceError;
 use crate::sim::{Animation, AnimationHandle};
@@ -120,12 +120,20 @@ pub struct BodyArgs {
     /// Animation database directory (default: built-in).
     #[arg(long)]
     pub db: Option<PathBuf>,
-    /// Trained policy (default: the shipped one for the built-in database).
+    /// Trained policy file (default: the shipped one for the built-in database), or a baseline
+    /// that picks the next interval without it: `greedy` (best one-step reward), `random`,
+    /// `successor` (the clip's own next interval).
     #[arg(long)]
     pub policy: Option<PathBuf>,
     /// How intervals hand over.
     #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
     pub transition: TransitionArg,
+}
+
+/// The baseline a `--policy` argument names, if it names one.
+pub fn baseline(policy: Option<&Path>) -> Option<Strategy> {
+    let name = policy?.to_str()?;
+    Strategy::ALL.into_iter().find(|s| *s != Strategy::Learnt && s.name() == name)
 }
 
 /// The manifest of a database directory.
@@ -317,18 +325,24 @@ pub fn db(command: DbCommand) -> Outcome {
             let body = BodyArgs { body: BodyKind::Animated, db: dir, policy, transition };
             let anim = load_animation(&body)?.ok_or_else(|| anyhow!("no animation"))?;
             let f = crate::sim::measure_tracking(&anim.0, 1.35, 0.8);
+            let phases = crate::sim::animated::PHASES;
             println!(
-                "90° heading change, walking: left {:.2} s, right {:.2} s (within 10°)",
-                f.turn_left_90_s, f.turn_right_90_s
+                "90° heading change, walking: left {:.2} s, right {:.2} s (within 10°; mean of {phases} phases, slowest {:.2} / {:.2} s)",
+                f.turn_left_90_s, f.turn_right_90_s, f.worst_s[0], f.worst_s[1]
             );
             println!(
-                "speed change 0.8 → 1.35 m/s: {:.2} s; 1.35 → 0.8 m/s: {:.2} s (within 10 %)",
-                f.speed_up_s, f.slow_down_s
+                "speed change 0.8 → 1.35 m/s: {:.2} s; 1.35 → 0.8 m/s: {:.2} s (within 10 %; mean of {phases} phases, slowest {:.2} / {:.2} s)",
+                f.speed_up_s, f.slow_down_s, f.worst_s[2], f.worst_s[3]
             );
             println!("RMS distance, commanded path to root path (60 s of varied commands): {:.3} m", f.rms_path_m);
             println!(
-                "foot skating: {:.3} cm/frame at 60 Hz; mean transition cost {:.4}",
-                f.foot_skating_cm_per_frame, f.transition_cost
+                "foot skating (heel and toe): {:.3} cm/frame at 60 Hz; plants sliding under 2 cm: {:.1}%",
+                f.foot_skating_cm_per_frame,
+                100.0 * f.steady_plant_share
+            );
+            println!(
+                "transitions: {:.2} per second; mean transition cost {:.4}",
+                f.transitions_per_s, f.transition_cost
             );
             Ok(())
         }
@@ -366,6 +380,18 @@ pub fn describe(db: &Database, dir: Option<&Path>) -> String {
     let _ = writeln!(s, "interval length: {lo:.2}–{hi:.2} s; speeds up to {:.2} m/s", db.max_speed());
     let _ =
         writeln!(s, "neighbours: K = {}, ε = {:.4}, fingerprint {:016x}", db.params.k, db.epsilon, db.fingerprint());
+    let (lo, hi) = db.candidates.iter().fold((usize::MAX, 0), |(lo, hi), c| (lo.min(c.len()), hi.max(c.len())));
+    let mirrored = db.mirror.iter().filter(|m| m.is_some()).count();
+    let count = |f: &dyn Fn(&crate::anim::db::IntervalKind) -> bool| db.kinds.iter().filter(|k| f(k)).count();
+    let _ = writeln!(
+        s,
+        "candidates per switch: {lo}–{hi}; mirrored intervals: {mirrored} of {}; stopping {}, in place {}, turning on the spot {} left / {} right",
+        db.intervals.len(),
+        count(&|k| k.stops),
+        count(&|k| k.in_place),
+        count(&|k| k.spot_turn > 0),
+        count(&|k| k.spot_turn < 0)
+    );
     let _ = writeln!(s, "{:<22} {:>7} {:>10} {:>9}", "clip", "frames", "intervals", "speed");
     for (c, clip) in db.clips.iter().enumerate() {
         let ivs: Vec<_> = db.intervals.iter().filter(|i| i.clip == c).collect();
@@ -389,7 +415,7 @@ pub fn train(a: TrainArgs) -> Outcome {
     } else {
         Policy::new(&db, StateGrid::default(), LearnParams::default(), a.seed)
     };
-    let target = a.episodes.div_ceil(crate::anim::policy::ROUND) * crate::anim::policy::ROUND;
+    let target = a.episodes;
     let bar = indicatif::ProgressBar::new(target);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} episodes, {elapsed} elapsed, eta {eta} {msg}")
@@ -441,8 +467,22 @@ pub fn train(a: TrainArgs) -> Outcome {
         },
         a.out.display()
     );
+    println!(
+        "mirrored states picking the mirrored candidate: {:.1}%; action values never updated: {:.1}%",
+        100.0 * policy.mirror_agreement(&db),
+        100.0 * policy.untouched_share()
+    );
+    println!("held-out episodes of the training MDP ({HELD_OUT_EPISODES}, drawn as training draws them):");
+    println!("  {:<10} {:>12} {:>13}", "strategy", "mean return", "task success");
+    for s in Strategy::ALL {
+        let e = crate::anim::policy::evaluate(&db, &policy, s, HELD_OUT_EPISODES, a.seed);
+        println!("  {:<10} {:>12.4} {:>12.1}%", s.name(), e.mean_return, 100.0 * e.task_success);
+    }
     Ok(())
 }
+
+/// Held-out episodes `strider train` scores the policy and the baselines on.
+const HELD_OUT_EPISODES: u64 = 20_000;
 
 /// The animation the agents of `run`, `render` and `tui` use, or `None` for discs.
 pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> {
@@ -453,7 +493,12 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
         Some(d) => load_database(d)?,
         None => builtin_database()?,
     };
+    let strategy = baseline(b.policy.as_deref()).unwrap_or(Strategy::Learnt);
     let policy = match (&b.policy, &b.db) {
+        // A baseline needs no trained values: an untrained table gives it α, β and γ.
+        (Some(_), _) if strategy != Strategy::Learnt => {
+            Policy::new(&db, StateGrid::default(), LearnParams::default(), 0)
+        }
         (Some(p), _) => {
             let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
             Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
@@ -472,9 +517,9 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
         TransitionArg::Crossfade => TransitionKind::CrossFade,
         TransitionArg::Inertialize => TransitionKind::Inertialize,
     };
-    Ok(Some(AnimationHandle(Arc::new(Animation {
-        db,
-        policy,
-        player: PlayerParams { transition, ..PlayerParams::default() },
-    }))))
+    Ok(Some(AnimationHandle(Arc::new(
+        Animation::new(db, policy)
+            .with_player(PlayerParams { transition, ..PlayerParams::default() })
+            .with_strategy(strategy),
+    ))))
 }

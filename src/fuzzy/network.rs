@@ -86,6 +86,18 @@ impl Network {
         }
     }
 
+    /// Where output `name` is, for [`Network::output_at`].
+    pub fn output_index(&self, name: &str) -> Option<usize> {
+        self.output_names.iter().position(|(n, _, _)| n == name)
+    }
+
+    /// The value of the output at `index` ([`Network::output_index`]) after the last
+    /// [`Network::process`].
+    pub fn output_at(&self, index: usize) -> f64 {
+        let (_, s, o) = self.output_names[index];
+        self.stages[s].outputs()[o]
+    }
+
     /// The value of output `name` after the last [`Network::process`].
     pub fn output(&self, name: &str) -> Option<f64> {
         self.output_names.iter().find(|(n, _, _)| n == name).map(|&(_, s, o)| self.stages[s].outputs()[o])

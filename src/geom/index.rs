@@ -114,6 +114,20 @@ impl SpatialIndex {
         self.query(out, |b| b.intersects_segment(origin, dir, max_dist));
     }
 
+    /// Replaces the contents of `out` with the indices of items whose box, grown by `radius`,
+    /// the segment `a`–`b` touches (every item within `radius` of the segment is among them),
+    /// ascending.
+    pub fn query_capsule(&self, a: DVec2, b: DVec2, radius: f64, out: &mut Vec<usize>) {
+        let d = b - a;
+        let len = d.length();
+        if !(len > 1e-12) {
+            self.query_circle(a, radius, out);
+            return;
+        }
+        let dir = d / len;
+        self.query(out, |bx| bx.expanded(radius).intersects_segment(a, dir, len));
+    }
+
     /// Depth-first traversal with a fixed stack; `hit` must be monotone (true for a box whenever
     /// it is true for a box inside it). Returns the number of nodes visited.
     fn query(&self, out: &mut Vec<usize>, hit: impl Fn(&Aabb) -> bool) -> usize {

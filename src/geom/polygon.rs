@@ -227,6 +227,30 @@ impl ConvexPolygon {
         if self.contains(p) { 0.0 - d } else { d.max(f64::MIN_POSITIVE) }
     }
 
+    /// Distance in metres from the segment `a`–`b` to the polygon: 0 when the segment touches
+    /// it, else the smallest distance between an endpoint and the polygon or a vertex and the
+    /// segment (exact for a convex polygon). NaN when an endpoint is NaN.
+    pub fn segment_distance(&self, a: DVec2, b: DVec2) -> f64 {
+        let (da, db) = (self.distance(a), self.distance(b));
+        if da == 0.0 || db == 0.0 || da.is_nan() || db.is_nan() {
+            return if da.is_nan() || db.is_nan() { f64::NAN } else { 0.0 };
+        }
+        // Both ends outside: the segment touches the polygon only if it crosses an edge.
+        let crosses = self.edges().any(|(p, q)| {
+            let (o1, o2) = (orientation(a, b, p), orientation(a, b, q));
+            let (o3, o4) = (orientation(p, q, a), orientation(p, q, b));
+            o1 != o2 && o3 != o4
+        });
+        if crosses {
+            return 0.0;
+        }
+        let mut d = da.min(db);
+        for &v in &self.vertices {
+            d = d.min(closest_on_segment(a, b, v).distance(v));
+        }
+        d.max(f64::MIN_POSITIVE)
+    }
+
     /// Point of the (solid) polygon closest to `p`: `p` itself when inside, otherwise the
     /// nearest boundary point. Metres.
     pub fn closest_point(&self, p: DVec2) -> DVec2 {

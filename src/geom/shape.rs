@@ -59,6 +59,18 @@ impl Shape {
         }
     }
 
+    /// Distance in metres from the segment `a`–`b` to the shape (0 when they touch): the gap a
+    /// disc sweeping the segment keeps is this minus its radius.
+    pub fn segment_distance(&self, a: DVec2, b: DVec2) -> f64 {
+        match self {
+            Shape::Polygon(poly) => poly.segment_distance(a, b),
+            Shape::Circle { center, radius } => {
+                let d = super::closest_on_segment(a, b, *center).distance(*center) - radius;
+                if d.is_nan() { d } else { d.max(0.0) }
+            }
+        }
+    }
+
     /// Signed distance in metres to the boundary: negative inside, positive outside, with the
     /// sign agreeing with [`Shape::contains`].
     pub fn signed_distance(&self, p: DVec2) -> f64 {

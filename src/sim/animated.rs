@@ -2,20 +2,28 @@
 //! through the animation database. The fuzzy planner's turn rate and speed become the RL
 //! controller's task: a desired heading — where the commanded turn rate would bring the heading
 //! within [`HEADING_HORIZON_S`], re-aimed at every step, since the planner closes the loop — and
-//! a desired speed. At every switch point the trained policy picks the next interval from the state
-//! (interval now ending, speed error, direction error); the played root motion moves the body.
+//! a desired speed. At every switch point the candidates are ranked (by the trained policy from
+//! the state: interval now ending, speed error, direction error; or by a baseline
+//! [`Strategy`]) and the character **looks before it steps**: a candidate is taken only if the
+//! root path it would play ([`SwitchPoint::path`], the cross-fade included), swept by the body's
+//! disc with a clearance margin, stays clear, and if from its end a stop or a turn on the spot
+//! is clear too, so the character can always stop in time. A character with nothing clear ahead
+//! stops or turns on the spot the way a person does — it never pushes into a wall.
 //!
-//! The body keeps the disc invariant: when the root motion of a step would end inside an
-//! obstacle, the step slides (turned up to 60° either way), is shortened, or is refused, and the
-//! character's ground reference is corrected accordingly.
+//! In a world where things move (other agents), the rest of the interval playing is checked at
+//! every step; when something unexpected blocks it, the character switches early with a short
+//! blend. Planted feet stay locked through all of this (see [`crate::anim::player`]). The disc
+//! invariant still holds as a last resort: a frame whose root would end inside something is not
+//! taken (the root holds; the locked feet do not move).
 
 use std::sync::Arc;
 
 use glam::DVec2;
+use rand_chacha::ChaCha8Rng;
 
-use super::body::{Body, Command, StepOutcome, slide};
-use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams};
-use crate::anim::policy::{Errors, Policy};
+use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
+use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
+use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
 use crate::anim::{Database, Ground};
 use crate::geom::wrap_angle;
 use crate::world::Pose;
@@ -24,8 +32,15 @@ use crate::world::Pose;
 pub const MAX_DIRECTION_ERROR: f64 = 0.9 * std::f64::consts::PI;
 /// The desired heading is where the commanded turn rate leads within this time, seconds.
 pub const HEADING_HORIZON_S: f64 = 1.0;
+/// Commanded speed from which standing still counts as being held, m/s.
+pub const HELD_SPEED_MPS: f64 = 0.2;
+/// Half-width of the speed band over which [`Body::turn_limit`] looks at the database, m/s.
+const TURN_BAND_MPS: f64 = 0.25;
+/// Step of the turn-ability table, m/s.
+const TURN_TABLE_STEP: f64 = 0.05;
 
-/// A database with its trained policy and playback parameters, shared by every agent.
+/// A database with its trained policy, playback parameters and look-ahead, shared by every
+/// agent.
 #[derive(Debug)]
 pub struct Animation {
     /// The database.
@@ -34,6 +49,62 @@ pub struct Animation {
     pub policy: Policy,
     /// Playback parameters.
     pub player: PlayerParams,
+    /// How candidates are ranked (the learnt policy).
+    pub strategy: Strategy,
+    /// Gap the body's disc keeps from obstacles along a candidate's path, metres (0.05).
+    pub clearance_m: f64,
+    /// Largest turn rate at speeds `0, 0.05, 0.1, …` m/s, radians per second.
+    turn_ability: Vec<f64>,
+}
+
+impl Animation {
+    /// The animation of `db` with `policy`, default playback, the learnt strategy.
+    pub fn new(db: Database, policy: Policy) -> Animation {
+        let top = db.max_speed() + TURN_BAND_MPS;
+        let steps = (top / TURN_TABLE_STEP).ceil() as usize + 1;
+        let turn_ability = (0..steps)
+            .map(|k| {
+                let v = k as f64 * TURN_TABLE_STEP;
+                db.intervals
+                    .iter()
+                    .zip(&db.kinds)
+                    .filter(|(iv, kind)| {
+                        let speed = if kind.in_place { 0.0 } else { iv.speed };
+                        (speed - v).abs() <= TURN_BAND_MPS
+                    })
+                    .map(|(iv, _)| iv.turn().abs() / iv.duration.max(1e-9))
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        Animation {
+            db,
+            policy,
+            player: PlayerParams::default(),
+            strategy: Strategy::Learnt,
+            clearance_m: 0.05,
+            turn_ability,
+        }
+    }
+
+    /// The same with playback parameters `player`.
+    pub fn with_player(mut self, player: PlayerParams) -> Animation {
+        self.player = player;
+        self
+    }
+
+    /// The same with candidates ranked by `strategy`.
+    pub fn with_strategy(mut self, strategy: Strategy) -> Animation {
+        self.strategy = strategy;
+        self
+    }
+
+    /// The largest turn rate the character can follow at `speed`, radians per second: the
+    /// fastest turn among the intervals within 0.25 m/s of it (turns on the spot count as
+    /// speed 0).
+    pub fn turn_limit(&self, speed: f64) -> f64 {
+        let k = if speed.is_finite() { (speed.max(0.0) / TURN_TABLE_STEP).round() as usize } else { 0 };
+        self.turn_ability[k.min(self.turn_ability.len() - 1)]
+    }
 }
 
 /// A shared [`Animation`]; equal when it is the same one.
@@ -86,23 +157,123 @@ pub struct AnimatedBody {
     speed: f64,
     commanded: Ground,
     switches: u64,
+    rng: ChaCha8Rng,
+    /// The interval playing was taken because every moving candidate ahead was blocked.
+    held: bool,
+    order: Vec<usize>,
+    path: Vec<DVec2>,
     /// Command tracking so far.
     pub tracking: Tracking,
 }
 
-struct PolicyChooser<'a> {
-    policy: &'a Policy,
+/// The look-ahead chooser: ranks the candidates and takes the best one whose path is clear.
+struct LookAhead<'a> {
+    anim: &'a Animation,
+    space: &'a mut dyn Space,
+    radius: f64,
     command: Command,
     desired: f64,
+    rng: &'a mut ChaCha8Rng,
+    order: &'a mut Vec<usize>,
+    path: &'a mut Vec<DVec2>,
+    held: bool,
 }
 
-impl Chooser for PolicyChooser<'_> {
-    fn choose(&mut self, db: &Database, ending: usize, heading: f64) -> usize {
+/// Allowance added to every clearance check of a sampled root path for the curve between its
+/// points, metres.
+const PATH_ALLOWANCE_M: f64 = 0.005;
+/// Clearance a turn on the spot or a stop may give up when the character already stands closer
+/// than the margin, metres.
+const IN_PLACE_SLACK_M: f64 = 0.01;
+
+impl LookAhead<'_> {
+    /// The clearances paths from `from` must keep (before [`PATH_ALLOWANCE_M`]), for moving
+    /// candidates and for those that stay in place: the margin (a little less for turning on
+    /// the spot or stopping), or what there is now if less. The path's sampled points, its end
+    /// included, are checked with the allowance added, so a character never ends a path closer
+    /// than it started or than the margin: clearance does not erode from switch to switch, and
+    /// one that stands too close can still turn or move away.
+    fn needs(&mut self, from: DVec2) -> (f64, f64) {
+        let want = self.radius + self.anim.clearance_m;
+        let now = self.space.clearance(from, want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M;
+        (now.min(want), now.min(want - IN_PLACE_SLACK_M))
+    }
+
+    fn clear(&mut self, need: f64) -> bool {
+        let need = need + PATH_ALLOWANCE_M;
+        match self.path.as_slice() {
+            [] => true,
+            [p] => self.space.clearance(*p, need) >= need,
+            pts => pts.windows(2).all(|w| self.space.segment_clearance(w[0], w[1], need) >= need),
+        }
+    }
+
+    /// Candidate `a` at `at` may be taken: its path keeps the clearance, and so does a stop or
+    /// a turn on the spot after it (unless it is one).
+    fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> bool {
+        let next = db.candidates[at.ending][a].interval;
+        let brake = db.kinds[next].is_brake();
+        self.path.clear();
+        at.path(db, a, self.path);
+        if !self.clear(if brake { needs.1 } else { needs.0 }) {
+            return false;
+        }
+        if brake {
+            return true;
+        }
+        let end = at.end_of(db, a);
+        for b in 0..db.candidates[next].len() {
+            let after = db.candidates[next][b].interval;
+            if !db.kinds[after].is_brake() {
+                continue;
+            }
+            self.path.clear();
+            db.interval_path(after, end, self.path);
+            if self.clear(needs.1) {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+impl Chooser for LookAhead<'_> {
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize {
         let errors = Errors {
-            speed: self.command.speed - db.intervals[ending].speed,
-            direction: wrap_angle(self.desired - heading),
+            speed: self.command.speed - db.intervals[at.ending].speed,
+            direction: wrap_angle(self.desired - at.ground.yaw),
         };
-        self.policy.choose(ending, errors)
+        let task = Task { turn_rate: self.command.turn_rate, speed: self.command.speed };
+        let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
+        ranker.rank(db, at.ending, errors, task, self.rng, self.order);
+        let needs = self.needs(DVec2::new(at.ground.x, at.ground.y));
+        let mut refused_moving = false;
+        let order = std::mem::take(self.order);
+        let mut pick = None;
+        for &a in &order {
+            if self.eligible(db, at, a, needs) {
+                pick = Some(a);
+                break;
+            }
+            refused_moving |= !db.kinds[db.candidates[at.ending][a].interval].is_brake();
+        }
+        *self.order = order;
+        let cands = &db.candidates[at.ending];
+        let a = pick.unwrap_or_else(|| {
+            // Nothing is clear: the candidate that moves least (standing or turning on the
+            // spot); the last-resort guard keeps the root out of anything.
+            (0..cands.len())
+                .min_by(|&x, &y| {
+                    let m = |a: usize| {
+                        let iv = &db.intervals[cands[a].interval];
+                        iv.motion.x.hypot(iv.motion.y)
+                    };
+                    m(x).total_cmp(&m(y)).then(x.cmp(&y))
+                })
+                .unwrap_or(0)
+        });
+        self.held = (refused_moving || pick.is_none()) && db.kinds[cands[a].interval].is_brake();
+        a
     }
 }
 
@@ -111,10 +282,12 @@ impl AnimatedBody {
     pub fn new(anim: Arc<Animation>, pose: Pose, radius: f64) -> AnimatedBody {
         let db = &anim.db;
         let start = (0..db.intervals.len())
-            .min_by(|&a, &b| db.intervals[a].speed.total_cmp(&db.intervals[b].speed))
+            .min_by(|&a, &b| db.intervals[a].speed.total_cmp(&db.intervals[b].speed).then(a.cmp(&b)))
             .unwrap_or(0);
         let at = Ground { x: pose.position.x, y: pose.position.y, yaw: pose.yaw };
         let player = Player::new(db, start, at, anim.player);
+        // The random baseline's stream, keyed by where the character starts.
+        let key = pose.position.x.to_bits() ^ pose.position.y.to_bits().rotate_left(21) ^ pose.yaw.to_bits();
         AnimatedBody {
             player,
             radius,
@@ -123,6 +296,10 @@ impl AnimatedBody {
             speed: 0.0,
             commanded: at,
             switches: 0,
+            rng: crate::rng::stream(key, 0, 0x7a9d),
+            held: false,
+            order: Vec::new(),
+            path: Vec::new(),
             tracking: Tracking::default(),
             anim,
         }
@@ -147,9 +324,67 @@ impl AnimatedBody {
         }
     }
 
+    /// True while the character plays a stop or a turn on the spot because nothing moving
+    /// ahead was clear.
+    pub fn held(&self) -> bool {
+        self.held
+    }
+
     /// Playback measurements.
     pub fn metrics(&self) -> PlaybackMetrics {
         self.player.metrics
+    }
+
+    /// The choice the character would make now at the end of the interval playing, among the
+    /// candidates there (an index into them): ranking and clearance checks through `space`, as
+    /// at every switch point.
+    pub fn choose_next(&mut self, space: &mut dyn Space) -> usize {
+        let anim = Arc::clone(&self.anim);
+        let at = self.player.upcoming_switch(&anim.db);
+        let mut chooser = LookAhead {
+            anim: &anim,
+            space,
+            radius: self.radius,
+            command: self.command,
+            desired: self.desired_heading,
+            rng: &mut self.rng,
+            order: &mut self.order,
+            path: &mut self.path,
+            held: false,
+        };
+        chooser.choose(&anim.db, &at)
+    }
+
+    /// When the rest of the interval playing is no longer clear (something moved into it),
+    /// switches early to the best clear candidate.
+    fn early_switch(&mut self, space: &mut dyn Space) {
+        let anim = Arc::clone(&self.anim);
+        let db = &anim.db;
+        self.path.clear();
+        self.player.remaining_path(db, &mut self.path);
+        let need = self.radius - 1e-6;
+        let blocked = match self.path.as_slice() {
+            [] | [_] => false,
+            pts => pts.windows(2).any(|w| space.segment_clearance(w[0], w[1], need) < need),
+        };
+        if !blocked {
+            return;
+        }
+        let at = self.player.switch_point_now();
+        let mut chooser = LookAhead {
+            anim: &anim,
+            space,
+            radius: self.radius,
+            command: self.command,
+            desired: self.desired_heading,
+            rng: &mut self.rng,
+            order: &mut self.order,
+            path: &mut self.path,
+            held: false,
+        };
+        let choice = chooser.choose(db, &at);
+        self.held = chooser.held;
+        self.player.switch_now(db, choice);
     }
 }
 
@@ -167,30 +402,49 @@ impl Body for AnimatedBody {
         self.radius
     }
 
-    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome {
+    fn turn_limit(&self, speed: f64) -> f64 {
+        self.anim.turn_limit(speed)
+    }
+
+    fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
         let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
         let speed = if command.speed.is_finite() { command.speed.max(0.0) } else { 0.0 };
         self.command = Command { turn_rate: turn, speed };
         let before = self.player.ground();
         self.desired_heading = before.yaw + (turn * HEADING_HORIZON_S).clamp(-MAX_DIRECTION_ERROR, MAX_DIRECTION_ERROR);
+        if space.changes() {
+            self.early_switch(space);
+        }
         let frames = ((dt * self.player.params.frame_rate) + 1e-9).floor().max(1.0) as usize;
         let anim = Arc::clone(&self.anim);
+        let mut outcome = StepOutcome::default();
         for _ in 0..frames {
-            let mut chooser =
-                PolicyChooser { policy: &anim.policy, command: self.command, desired: self.desired_heading };
+            let prev = self.player.ground();
+            let mut chooser = LookAhead {
+                anim: &anim,
+                space: &mut *space,
+                radius: self.radius,
+                command: self.command,
+                desired: self.desired_heading,
+                rng: &mut self.rng,
+                order: &mut self.order,
+                path: &mut self.path,
+                held: self.held,
+            };
             self.player.advance_frame(&anim.db, &mut chooser);
+            self.held = chooser.held;
+            let now = self.player.ground();
+            let to = DVec2::new(now.x, now.y);
+            let from = DVec2::new(prev.x, prev.y);
+            if to != from && !is_free(space, to, self.radius) {
+                // Last resort: the root stays, the locked feet with it.
+                self.player.hold(&anim.db, Ground { yaw: now.yaw, ..prev });
+                outcome.blocked = true;
+            } else {
+                outcome.moved_m += from.distance(to);
+            }
         }
-        let after = self.player.ground();
-        let from = DVec2::new(before.x, before.y);
-        let step = DVec2::new(after.x, after.y) - from;
-        let distance = step.length();
-        let mut outcome = StepOutcome { moved_m: distance, blocked: false };
-        if distance > 0.0 && !free(from + step) {
-            outcome.blocked = true;
-            let (to, moved) = slide(from, step.y.atan2(step.x), distance, free).map_or((from, 0.0), |(p, d, _)| (p, d));
-            outcome.moved_m = moved;
-            self.player.set_ground(Ground { x: to.x, y: to.y, yaw: after.yaw });
-        }
+        outcome.held = self.held && speed >= HELD_SPEED_MPS;
         self.speed = outcome.moved_m / dt;
         // Tracking: the commanded unicycle from the root at the last switch point.
         let g = self.player.ground();
@@ -215,83 +469,99 @@ impl Body for AnimatedBody {
 /// Command tracking figures of an animated character on open ground (DESIGN.md §3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct TrackingFigures {
-    /// Seconds from a commanded 90° heading change (left, while walking) until the heading is
-    /// within 10° of it.
+    /// Seconds from a commanded 90° heading change to the left, while walking, until the
+    /// heading is within 10° of it; mean over [`PHASES`] starting phases of the stride.
     pub turn_left_90_s: f64,
     /// The same to the right.
     pub turn_right_90_s: f64,
     /// Seconds from a commanded speed change (slow walk to walk) until the speed over the last
-    /// half second is within 10 % of it.
+    /// half second is within 10 % of it; mean over the starting phases.
     pub speed_up_s: f64,
     /// The same from walk to slow walk.
     pub slow_down_s: f64,
+    /// The slowest of the starting phases for each of the four: left, right, up, down.
+    pub worst_s: [f64; 4],
     /// RMS distance between the commanded path and the root path over a 60 s run of varied
     /// commands from the planner's ranges, metres.
     pub rms_path_m: f64,
-    /// Foot skating over all of the above, cm per frame.
+    /// Foot skating (heel and toe points) over all of the above, cm per frame.
     pub foot_skating_cm_per_frame: f64,
+    /// Share of foot plants that slid less than 2 cm, over all of the above.
+    pub steady_plant_share: f64,
     /// Mean pose distance at transitions over all of the above.
     pub transition_cost: f64,
+    /// Transitions per second over all of the above.
+    pub transitions_per_s: f64,
 }
 
+/// Starting phases of the stride over which each latency of [`measure_tracking`] is averaged.
+pub const PHASES: usize = 16;
+
 /// Runs the scripted tracking tests on open ground; a time of 10 s means the command was not met
-/// within 10 s.
+/// within 10 s. Each latency starts from a character that has walked (or slow-walked) for 4 s,
+/// at [`PHASES`] phases spread over one stride.
 pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64) -> TrackingFigures {
     const DT: f64 = 0.05;
     const CAP_S: f64 = 10.0;
     let start = Pose { position: DVec2::ZERO, yaw: 0.0 };
-    let mut skate = (0.0, 0.0);
-    let mut cost = (0.0, 0u64);
-    let mut account = |b: &AnimatedBody| {
-        let m = b.metrics();
-        skate.0 += m.skate_weighted_cm;
-        skate.1 += m.contact_weight;
-        cost.0 += m.transition_cost;
-        cost.1 += m.transitions;
-    };
-    let settle = |b: &mut AnimatedBody, speed: f64| {
+    let mut all = PlaybackMetrics::default();
+    let mut sim_time = 0.0;
+    // A character that has settled into `speed`, then walked on to phase `k` of a stride.
+    let settle = |speed: f64, k: usize, time: &mut f64| {
+        let mut b = AnimatedBody::new(anim.clone(), start, 0.3);
         for _ in 0..(4.0 / DT) as usize {
-            b.step(Command { turn_rate: 0.0, speed }, DT, &mut |_| true);
+            b.step(Command { turn_rate: 0.0, speed }, DT, &mut OpenSpace);
         }
-    };
-    // A commanded heading change: the command is the turn rate that would close the remaining
-    // heading error within the horizon, as a planner steering to a fixed heading commands.
-    let mut turn = |sign: f64| {
-        let mut b = AnimatedBody::new(anim.clone(), start, 0.3);
-        settle(&mut b, walk_speed);
-        let target = b.player.ground().yaw + sign * std::f64::consts::FRAC_PI_2;
-        let mut t = 0.0;
-        while wrap_angle(target - b.player.ground().yaw).abs() > 10f64.to_radians() && t < CAP_S {
-            let turn_rate = wrap_angle(target - b.player.ground().yaw) / HEADING_HORIZON_S;
-            b.step(Command { turn_rate, speed: walk_speed }, DT, &mut |_| true);
-            t += DT;
+        let stride = 2.0 * anim.db.intervals[b.player.interval()].duration;
+        let frames = (k as f64 * stride * b.player.params.frame_rate / PHASES as f64).round() as usize;
+        for _ in 0..frames {
+            b.step(Command { turn_rate: 0.0, speed }, 1.0 / b.player.params.frame_rate, &mut OpenSpace);
         }
-        account(&b);
-        t
+        *time += 4.0 + frames as f64 / b.player.params.frame_rate;
+        b
     };
-    let (turn_left_90_s, turn_right_90_s) = (turn(1.0), turn(-1.0));
-    let mut speed = |from: f64, to: f64| {
-        let mut b = AnimatedBody::new(anim.clone(), start, 0.3);
-        settle(&mut b, from);
-        let window = (0.5 / DT) as usize;
-        let mut recent: Vec<f64> = Vec::new();
-        let mut t = 0.0;
-        loop {
-            let out = b.step(Command { turn_rate: 0.0, speed: to }, DT, &mut |_| true);
-            t += DT;
-            recent.push(out.moved_m);
-            if recent.len() > window {
-                recent.remove(0);
+    let mut latencies = [0.0f64; 4];
+    let mut worst = [0.0f64; 4];
+    for k in 0..PHASES {
+        // A commanded heading change: the command is the turn rate that would close the remaining
+        // heading error within the horizon, as a planner steering to a fixed heading commands.
+        for (slot, sign) in [(0usize, 1.0f64), (1, -1.0)] {
+            let mut b = settle(walk_speed, k, &mut sim_time);
+            let target = b.player.ground().yaw + sign * std::f64::consts::FRAC_PI_2;
+            let mut t = 0.0;
+            while wrap_angle(target - b.player.ground().yaw).abs() > 10f64.to_radians() && t < CAP_S {
+                let turn_rate = wrap_angle(target - b.player.ground().yaw) / HEADING_HORIZON_S;
+                b.step(Command { turn_rate, speed: walk_speed }, DT, &mut OpenSpace);
+                t += DT;
             }
-            let v = recent.iter().sum::<f64>() / (recent.len() as f64 * DT);
-            if (recent.len() == window && (v - to).abs() <= 0.1 * to) || t >= CAP_S {
-                break;
-            }
+            sim_time += t;
+            all.absorb(&b.metrics());
+            latencies[slot] += t / PHASES as f64;
+            worst[slot] = worst[slot].max(t);
         }
-        account(&b);
-        t
-    };
-    let (speed_up_s, slow_down_s) = (speed(slow_speed, walk_speed), speed(walk_speed, slow_speed));
+        for (slot, from, to) in [(2usize, slow_speed, walk_speed), (3, walk_speed, slow_speed)] {
+            let mut b = settle(from, k, &mut sim_time);
+            let window = (0.5 / DT) as usize;
+            let mut recent: Vec<f64> = Vec::new();
+            let mut t = 0.0;
+            loop {
+                let out = b.step(Command { turn_rate: 0.0, speed: to }, DT, &mut OpenSpace);
+                t += DT;
+                recent.push(out.moved_m);
+                if recent.len() > window {
+                    recent.remove(0);
+                }
+                let v = recent.iter().sum::<f64>() / (recent.len() as f64 * DT);
+                if (recent.len() == window && (v - to).abs() <= 0.1 * to) || t >= CAP_S {
+                    break;
+                }
+            }
+            sim_time += t;
+            all.absorb(&b.metrics());
+            latencies[slot] += t / PHASES as f64;
+            worst[slot] = worst[slot].max(t);
+        }
+    }
     // Varied commands: a new (turn, speed) every 2 s, from a fixed stream.
     let mut b = AnimatedBody::new(anim.clone(), start, 0.3);
     let mut rng = crate::rng::stream(2024, 0, 7);
@@ -303,17 +573,20 @@ pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64)
                 speed: crate::rng::uniform(&mut rng, slow_speed, walk_speed),
             };
         }
-        b.step(command, DT, &mut |_| true);
+        b.step(command, DT, &mut OpenSpace);
     }
-    account(&b);
-    let rms_path_m = b.tracking.rms_path_m();
+    sim_time += 60.0;
+    all.absorb(&b.metrics());
     TrackingFigures {
-        turn_left_90_s,
-        turn_right_90_s,
-        speed_up_s,
-        slow_down_s,
-        rms_path_m,
-        foot_skating_cm_per_frame: if skate.1 > 0.0 { skate.0 / skate.1 } else { 0.0 },
-        transition_cost: if cost.1 > 0 { cost.0 / cost.1 as f64 } else { 0.0 },
+        turn_left_90_s: latencies[0],
+        turn_right_90_s: latencies[1],
+        speed_up_s: latencies[2],
+        slow_down_s: latencies[3],
+        worst_s: worst,
+        rms_path_m: b.tracking.rms_path_m(),
+        foot_skating_cm_per_frame: all.foot_skating_cm_per_frame(),
+        steady_plant_share: all.steady_plant_share(),
+        transition_cost: all.mean_transition_cost(),
+        transitions_per_s: all.transitions as f64 / sim_time.max(1e-9),
     }
 }

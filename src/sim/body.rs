@@ -2,10 +2,13 @@
 //! acceleration limits, behind the [`Body`] trait so the animation controller (seed 000 §3.2)
 //! can drive the same loop with animation root motion.
 //!
-//! Invariant: a body never moves into an obstacle. A step whose end position is not free slides:
-//! the same step turned up to 60° to either side (its speed keeps only the component along the
-//! heading); failing that it is shortened (halved up to four times) and, if still blocked, not
-//! taken: the body only turns and its speed drops to zero.
+//! Bodies see the world through a [`Space`]: the clearance of a point, and of the segment a
+//! disc would sweep — the obstacles and the other agents alike.
+//!
+//! Invariant: a body never moves into an obstacle. A step of the disc whose end position is not
+//! free slides: the same step turned up to 60° to either side (its speed keeps only the
+//! component along the heading); failing that it is shortened (halved up to four times) and, if
+//! still blocked, not taken: the body only turns and its speed drops to zero.
 
 use glam::DVec2;
 
@@ -27,6 +30,51 @@ pub struct StepOutcome {
     pub moved_m: f64,
     /// True when the step had to be shortened or refused because it would hit something.
     pub blocked: bool,
+    /// True when the body was commanded to move but had to stand or turn on the spot because
+    /// every way forward was blocked (an animated character's look-ahead refusing its moving
+    /// candidates).
+    pub held: bool,
+}
+
+impl StepOutcome {
+    /// A stalled step: blocked, or held in place against the command.
+    pub fn stalled(&self) -> bool {
+        self.blocked || self.held
+    }
+}
+
+/// What a body can see of its surroundings: obstacles and other agents, as clearances.
+pub trait Space {
+    /// Distance from `p` to the nearest obstacle or other agent (0 inside), capped at `max`,
+    /// metres.
+    fn clearance(&mut self, p: DVec2, max: f64) -> f64;
+    /// Distance from the segment `a`–`b` to the nearest obstacle or other agent (0 when it
+    /// touches one), capped at `max`, metres.
+    fn segment_clearance(&mut self, a: DVec2, b: DVec2, max: f64) -> f64;
+    /// True when something in it can move (other agents), so that a path checked clear may not
+    /// stay clear.
+    fn changes(&self) -> bool;
+}
+
+/// Open ground: nothing anywhere.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OpenSpace;
+
+impl Space for OpenSpace {
+    fn clearance(&mut self, _: DVec2, max: f64) -> f64 {
+        max
+    }
+    fn segment_clearance(&mut self, _: DVec2, _: DVec2, max: f64) -> f64 {
+        max
+    }
+    fn changes(&self) -> bool {
+        false
+    }
+}
+
+/// True when a disc of `radius` at `p` overlaps nothing in `space`.
+pub fn is_free(space: &mut dyn Space, p: DVec2, radius: f64) -> bool {
+    space.clearance(p, radius + 1e-9) >= radius
 }
 
 /// Something the navigation loop can drive.
@@ -37,9 +85,10 @@ pub trait Body {
     fn speed(&self) -> f64;
     /// Radius of the disc the body occupies, metres.
     fn radius(&self) -> f64;
-    /// Advances by `dt` seconds following `command`; `free(p)` says whether the body may stand
-    /// at `p`.
-    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome;
+    /// The largest turn rate the body can follow at `speed`, radians per second.
+    fn turn_limit(&self, speed: f64) -> f64;
+    /// Advances by `dt` seconds following `command` through `space`.
+    fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome;
 }
 
 /// Limits of the kinematic disc. Every field documents its default.
@@ -92,7 +141,13 @@ impl Body for KinematicDisc {
         self.limits.radius
     }
 
-    fn step(&mut self, command: Command, dt: f64, free: &mut dyn FnMut(DVec2) -> bool) -> StepOutcome {
+    fn turn_limit(&self, _: f64) -> f64 {
+        self.limits.max_turn_rate
+    }
+
+    fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
+        let radius = self.limits.radius;
+        let free = &mut |p: DVec2| is_free(space, p, radius);
         let l = self.limits;
         let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
         let target = if command.speed.is_finite() { command.speed.clamp(0.0, l.max_speed) } else { 0.0 };
@@ -110,11 +165,11 @@ impl Body for KinematicDisc {
                 if turn != 0.0 {
                     self.speed *= turn.cos();
                 }
-                StepOutcome { moved_m: moved, blocked: turn != 0.0 || moved < distance }
+                StepOutcome { moved_m: moved, blocked: turn != 0.0 || moved < distance, held: false }
             }
             None => {
                 self.speed = 0.0;
-                StepOutcome { moved_m: 0.0, blocked: true }
+                StepOutcome { moved_m: 0.0, blocked: true, held: false }
             }
         }
     }
@@ -156,13 +211,25 @@ mod tests {
     #[test]
     fn limits_and_guard() {
         let mut d = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.0 }, DiscLimits::default());
-        let out = d.step(Command { turn_rate: 10.0, speed: 10.0 }, 0.1, &mut |_| true);
+        let out = d.step(Command { turn_rate: 10.0, speed: 10.0 }, 0.1, &mut OpenSpace);
         assert!((d.pose().yaw - 0.25).abs() < 1e-12);
         assert!((d.speed() - 0.2).abs() < 1e-12);
         assert!((out.moved_m - 0.02).abs() < 1e-12);
         // A wall right ahead: the body stops instead of entering it.
         let before = d.pose().position;
-        let out = d.step(Command { turn_rate: 0.0, speed: 1.0 }, 0.1, &mut |_| false);
+        struct Wall;
+        impl Space for Wall {
+            fn clearance(&mut self, _: DVec2, _: f64) -> f64 {
+                0.0
+            }
+            fn segment_clearance(&mut self, _: DVec2, _: DVec2, _: f64) -> f64 {
+                0.0
+            }
+            fn changes(&self) -> bool {
+                false
+            }
+        }
+        let out = d.step(Command { turn_rate: 0.0, speed: 1.0 }, 0.1, &mut Wall);
         assert!(out.blocked);
         assert_eq!(d.pose().position, before);
         assert_eq!(d.speed(), 0.0);

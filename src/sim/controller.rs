@@ -24,8 +24,17 @@
 //! repeat on only leaves for a point closer to the goal than ever. Coming back to the hit
 //! point while following switches side. Inference never calls a script; the memory is a plain
 //! list, so runs stay deterministic.
+//!
+//! **The planner drives the body it has.** What the rules command is shaped to what the body
+//! can follow ([`Body::turn_limit`]): a turn sharper than the body can make at the commanded
+//! speed keeps its curvature at the highest speed where the body can make it, or becomes a
+//! turn on the spot. The same rules thus steer the nimble disc and the animated character.
+//!
+//! The boundary with the rules is typed: [`NavInputs`] holds every value the controller
+//! provides, bound to the network's inputs by name once, and the outputs it needs are looked
+//! up once.
 
-use super::body::Command;
+use super::body::{Body, Command};
 use glam::DVec2;
 
 use super::follow::{FollowParams, FollowStep, follow_direction, swept_ahead};
@@ -33,19 +42,63 @@ use crate::fuzzy::{Engine, Network};
 use crate::geom::wrap_angle;
 use crate::world::Sensed;
 
-/// The inputs the controller provides to the rule network, by name.
-pub const PROVIDED_INPUTS: [&str; 10] = [
-    "front",
-    "left",
-    "right",
-    "nearest",
-    "balance",
-    "goal_angle",
-    "goal_distance",
-    "wall",
-    "wall_bearing",
-    "follow_angle",
-];
+/// Everything the controller provides to the rule network (by the field names).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NavInputs {
+    /// Free distance of the disc's corridor straight ahead, metres.
+    pub front: f64,
+    /// Free distance in the left sector, metres.
+    pub left: f64,
+    /// Free distance in the right sector, metres.
+    pub right: f64,
+    /// Free distance to the nearest obstacle in any direction, metres.
+    pub nearest: f64,
+    /// `left - right`, metres.
+    pub balance: f64,
+    /// Angle to the goal (or to the way toward it), degrees, positive to the left.
+    pub goal_angle: f64,
+    /// Distance to the goal, metres.
+    pub goal_distance: f64,
+    /// Free distance to the followed wall (the nearest obstacle), metres.
+    pub wall: f64,
+    /// Bearing of the followed wall, degrees; +90 = beside the agent on the followed side.
+    pub wall_bearing: f64,
+    /// Angle from the heading to the boundary follower's direction, degrees, positive toward
+    /// the followed wall.
+    pub follow_angle: f64,
+}
+
+impl NavInputs {
+    /// The input names the rules may read, in field order.
+    pub const NAMES: [&'static str; 10] = [
+        "front",
+        "left",
+        "right",
+        "nearest",
+        "balance",
+        "goal_angle",
+        "goal_distance",
+        "wall",
+        "wall_bearing",
+        "follow_angle",
+    ];
+
+    /// The value named `NAMES[field]`.
+    fn get(&self, field: usize) -> f64 {
+        [
+            self.front,
+            self.left,
+            self.right,
+            self.nearest,
+            self.balance,
+            self.goal_angle,
+            self.goal_distance,
+            self.wall,
+            self.wall_bearing,
+            self.follow_angle,
+        ][field]
+    }
+}
 
 /// The outputs the controller needs from the rule network.
 pub const REQUIRED_OUTPUTS: [&str; 3] = ["turn", "speed", "follow_turn"];
@@ -101,44 +154,50 @@ pub enum Side {
     Right,
 }
 
+/// The state of boundary following.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FollowState {
+    /// Side of the obstacle.
+    pub side: Side,
+    /// Distance to the goal when following started, metres.
+    pub entry_distance_m: f64,
+    /// Simulation time when following started (on this side), seconds.
+    pub since_s: f64,
+    /// Smallest distance from the goal to the followed wall so far, metres.
+    pub followed_min_m: f64,
+    /// Simulation time the followed wall was last seen, seconds.
+    pub wall_seen_s: f64,
+    /// Closest approach to the goal reachable in a straight line when following started
+    /// (the one goal seeking failed to make), metres.
+    pub stalled_reach_m: f64,
+    /// Leave only for a point closer to the goal than ever before (this place has been a hit
+    /// point before without progress since).
+    pub strict: bool,
+    /// Best goal distance of the episode when following started, metres.
+    pub best_ever_m: f64,
+    /// Where following started (on this side).
+    pub hit: DVec2,
+    /// The agent has been away from `hit` since.
+    pub left_hit: bool,
+}
+
 /// What the controller is doing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Mode {
     /// Goal seeking masked by obstacle avoidance.
     Seek,
     /// Following an obstacle boundary.
-    Follow {
-        /// Side of the obstacle.
-        side: Side,
-        /// Distance to the goal when following started, metres.
-        entry_distance_m: f64,
-        /// Simulation time when following started, seconds.
-        since_s: f64,
-        /// Smallest goal distance seen while following, metres.
-        followed_min_m: f64,
-        /// Simulation time the followed wall was last seen, seconds.
-        wall_seen_s: f64,
-        /// Closest approach to the goal reachable in a straight line when following started
-        /// (the one goal seeking failed to make), metres.
-        stalled_reach_m: f64,
-        /// Leave only for a point closer to the goal than ever before (this place has been a
-        /// hit point before without progress since).
-        strict: bool,
-        /// Best goal distance of the episode when following started, metres.
-        best_ever_m: f64,
-        /// Where following started.
-        hit: DVec2,
-        /// The agent has been away from `hit` since.
-        left_hit: bool,
-    },
+    Follow(FollowState),
 }
 
 /// The layered controller with its mode state.
 #[derive(Debug, Clone)]
 pub struct LayeredController {
     network: Network,
-    /// For each network input, which provided value feeds it.
+    /// For each network input, which field of [`NavInputs`] feeds it.
     slots: Vec<usize>,
+    /// Where the network puts `turn`, `speed` and `follow_turn`.
+    outputs: [usize; 3],
     inputs: Vec<f64>,
     /// Mode-switch tuning.
     pub params: ControllerParams,
@@ -166,25 +225,26 @@ impl LayeredController {
         let network = Network::new(engines).map_err(|e| e.message)?;
         let mut slots = Vec::new();
         for name in network.input_names() {
-            match PROVIDED_INPUTS.iter().position(|p| *p == name) {
+            match NavInputs::NAMES.iter().position(|p| *p == name) {
                 Some(i) => slots.push(i),
                 None => {
                     return Err(format!(
                         "the rules read input '{name}', which navigation does not provide (it provides: {})",
-                        PROVIDED_INPUTS.join(", ")
+                        NavInputs::NAMES.join(", ")
                     ));
                 }
             }
         }
-        for out in REQUIRED_OUTPUTS {
-            if network.output(out).is_none() {
-                return Err(format!("the rules must produce an output named '{out}'"));
-            }
+        let mut outputs = [0usize; 3];
+        for (slot, name) in outputs.iter_mut().zip(REQUIRED_OUTPUTS) {
+            *slot =
+                network.output_index(name).ok_or_else(|| format!("the rules must produce an output named '{name}'"))?;
         }
         let n = slots.len();
         Ok(LayeredController {
             network,
             slots,
+            outputs,
             inputs: vec![0.0; n],
             params,
             mode: Mode::Seek,
@@ -223,9 +283,9 @@ impl LayeredController {
         self.follows
     }
 
-    /// The command for what the agent senses at time `t_s`; `goal_visible` says whether the
-    /// straight way to the goal is free.
-    pub fn command(&mut self, s: &Sensed, goal_visible: bool, t_s: f64) -> Command {
+    /// The command for what the agent senses at time `t_s`, shaped to what `body` can follow;
+    /// `goal_visible` says whether the straight way to the goal is free.
+    pub fn command(&mut self, s: &Sensed, goal_visible: bool, t_s: f64, body: &dyn Body) -> Command {
         let p = self.params;
         if s.goal_distance < self.best_distance - p.progress_m || self.best_distance.is_infinite() {
             self.best_distance = s.goal_distance;
@@ -237,176 +297,225 @@ impl LayeredController {
         // barely wider than itself), not the nearest point of a wide sector.
         let front = swept_ahead(&s.scan, s.heading, s.radius, s.range).unwrap_or(s.sectors[1]);
         let mut followed: Option<(Side, Option<FollowStep>)> = None;
-        match self.mode {
-            Mode::Seek => {
-                if t_s - self.last_progress_s > p.stall_time_s {
-                    // The first time, turn toward the goal's side (the obstacle stays on the other
-                    // side); later, keep the side used before, so repeated stalls in one trap
-                    // keep going around it the same way. A stall where following started before,
-                    // with no progress since, is a loop: take the other side this time, and
-                    // after that only leave for a point closer to the goal than ever.
-                    let best_ever = self.best_ever;
-                    let repeats = self.hits.iter().filter(|h| {
-                        h.at.distance(s.position) < p.hit_radius_m && best_ever > h.best_ever_m - p.progress_m
-                    });
-                    let (count, last) = repeats.fold((0usize, None), |(n, _), h| (n + 1, Some(h.side)));
-                    let side = match last {
-                        Some(side) => other(side),
-                        None => self.last_side.unwrap_or(if s.goal_angle >= 0.0 { Side::Right } else { Side::Left }),
-                    };
-                    let strict = count >= 2;
-                    self.hits.push(Hit { at: s.position, side, best_ever_m: best_ever });
-                    self.last_side = Some(side);
-                    self.follows += 1;
-                    self.mode = Mode::Follow {
-                        side,
-                        entry_distance_m: s.goal_distance,
-                        since_s: t_s,
-                        followed_min_m: s.obstacle_goal_distance.min(s.goal_distance),
-                        wall_seen_s: t_s,
-                        stalled_reach_m: s.reachable_goal_distance,
-                        strict,
-                        best_ever_m: best_ever,
-                        hit: s.position,
-                        left_hit: false,
-                    };
-                }
+        self.mode = match self.mode {
+            Mode::Seek if t_s - self.last_progress_s > p.stall_time_s => Mode::Follow(self.start_following(s, t_s)),
+            Mode::Seek => Mode::Seek,
+            Mode::Follow(f) => {
+                let step = follow_direction(&s.scan, s.heading, f.side, s.radius, s.range, &p.follow);
+                followed = Some((f.side, step));
+                self.keep_following(f, step, s, goal_visible, t_s)
             }
-            Mode::Follow {
-                side,
-                entry_distance_m,
-                since_s,
-                followed_min_m,
-                wall_seen_s,
-                stalled_reach_m,
-                strict,
-                best_ever_m,
-                hit,
-                left_hit,
-            } => {
-                let step = follow_direction(&s.scan, s.heading, side, s.radius, s.range, &p.follow);
-                followed = Some((side, step));
-                // TangentBug: the closest the followed wall has come to the goal (its nearest
-                // points on the followed side), against the closest free point reachable in a
-                // straight line.
-                let wall_goal = match step {
-                    Some(f) => {
-                        let at = s.position + DVec2::from_angle(f.wall_direction) * (f.wall_m + s.radius);
-                        at.distance(s.goal)
-                    }
-                    _ => s.obstacle_goal_distance,
-                };
-                let followed_min_m = followed_min_m.min(wall_goal);
-                // A way closer than the one goal seeking stalled on.
-                let mut bound = followed_min_m.min(stalled_reach_m);
-                if strict {
-                    bound = bound.min(best_ever_m);
-                }
-                let reachable = s.reachable_goal_distance < bound - p.leave_margin_m;
-                let away = s.position.distance(hit);
-                let back_at_hit = left_hit && away < p.hit_radius_m * 0.5;
-                let left_hit = (left_hit && !back_at_hit) || away > p.hit_radius_m * 2.0;
-                let seen = match step {
-                    Some(f) => f.wall_m < p.wall_lost_m,
-                    None => s.scan.is_empty() && s.nearest < p.wall_lost_m,
-                };
-                let wall_seen_s = if seen { t_s } else { wall_seen_s };
-                let entry = if strict { entry_distance_m.min(best_ever_m) } else { entry_distance_m };
-                let closer = s.goal_distance < entry - p.leave_margin_m && goal_visible;
-                if closer || reachable || t_s - wall_seen_s > p.wall_lost_s {
-                    self.mode = Mode::Seek;
-                    self.last_progress_s = t_s;
-                    self.best_distance = s.goal_distance;
-                } else if t_s - since_s > p.max_follow_s || back_at_hit {
-                    self.mode = Mode::Follow {
-                        side: other(side),
-                        entry_distance_m,
-                        since_s: t_s,
-                        followed_min_m,
-                        wall_seen_s,
-                        stalled_reach_m,
-                        strict,
-                        best_ever_m,
-                        hit: s.position,
-                        left_hit: false,
-                    };
-                } else {
-                    self.mode = Mode::Follow {
-                        side,
-                        entry_distance_m,
-                        since_s,
-                        followed_min_m,
-                        wall_seen_s,
-                        stalled_reach_m,
-                        strict,
-                        best_ever_m,
-                        hit,
-                        left_hit,
-                    };
-                }
-            }
-        }
+        };
         // The followed wall is the nearest obstacle; its bearing is mirrored for the right side
         // so that +90° always means "beside the agent on the followed side".
         let bearing = s.nearest_bearing.to_degrees();
-        let wall_bearing = match self.mode {
-            Mode::Follow { side: Side::Right, .. } => -bearing,
-            _ => bearing,
+        let side = match self.mode {
+            Mode::Follow(f) => Some(f.side),
+            Mode::Seek => None,
         };
+        let mirror = |a: f64| if side == Some(Side::Right) { -a } else { a };
         // The follower's direction relative to the heading, degrees, mirrored like the bearing;
         // with the wall out of sight, turn toward its side to find it again.
-        let follow = match (self.mode, followed) {
-            (Mode::Follow { side, .. }, Some((done, step))) if done == side => step,
-            (Mode::Follow { side, .. }, _) => follow_direction(&s.scan, s.heading, side, s.radius, s.range, &p.follow),
-            (Mode::Seek, _) => None,
+        let follow = match (side, followed) {
+            (Some(side), Some((done, step))) if done == side => step,
+            (Some(side), _) => follow_direction(&s.scan, s.heading, side, s.radius, s.range, &p.follow),
+            (None, _) => None,
         };
-        let follow_angle = match (self.mode, follow) {
-            (Mode::Seek, _) => 0.0,
-            (Mode::Follow { side, .. }, Some(f)) => {
-                let a = wrap_angle(f.direction - s.heading).to_degrees();
-                if side == Side::Right { -a } else { a }
-            }
-            (Mode::Follow { .. }, None) => 60.0,
+        let follow_angle = match (side, follow) {
+            (None, _) => 0.0,
+            (Some(_), Some(f)) => mirror(wrap_angle(f.direction - s.heading).to_degrees()),
+            (Some(_), None) => 60.0,
         };
-        let provided = [
+        let nav = NavInputs {
             front,
             left,
             right,
-            s.nearest,
-            left - right,
-            s.goal_angle.to_degrees(),
-            s.goal_distance,
-            s.nearest,
-            wall_bearing,
+            nearest: s.nearest,
+            balance: left - right,
+            goal_angle: s.goal_angle.to_degrees(),
+            goal_distance: s.goal_distance,
+            wall: s.nearest,
+            wall_bearing: mirror(bearing),
             follow_angle,
-        ];
+        };
         for (dst, &slot) in self.inputs.iter_mut().zip(&self.slots) {
-            *dst = provided[slot];
+            *dst = nav.get(slot);
         }
         self.network.process(&self.inputs);
-        let out = |name: &str| self.network.output(name).filter(|v| v.is_finite()).unwrap_or(0.0);
-        let speed = match self.mode {
-            Mode::Seek => out("speed"),
-            Mode::Follow { .. } => {
+        let out = |k: usize| Some(self.network.output_at(self.outputs[k])).filter(|v| v.is_finite()).unwrap_or(0.0);
+        let (speed, turn_deg) = match side {
+            None => (out(1), out(0)),
+            Some(side) => {
                 // Turn first, then go: full speed within 30° of the follower's direction,
                 // none beyond 90°; slower as the way ahead shortens.
                 let align = ((90.0 - follow_angle.abs()) / 60.0).clamp(0.0, 1.0);
                 let room = follow.map_or(0.3, |f| (f.free_m * 1.5).max(0.15));
-                p.follow_speed_mps.min(room) * align
+                let turn = if side == Side::Left { out(2) } else { -out(2) };
+                (p.follow_speed_mps.min(room) * align, turn)
             }
         };
-        let turn_deg = match self.mode {
-            Mode::Seek => out("turn"),
-            Mode::Follow { side: Side::Left, .. } => out("follow_turn"),
-            Mode::Follow { side: Side::Right, .. } => -out("follow_turn"),
-        };
-        Command { turn_rate: turn_deg.to_radians(), speed }
+        within_reach(Command { turn_rate: turn_deg.to_radians(), speed }, body)
     }
+
+    /// Starts following the boundary after a stall. The first time, the side away from the
+    /// goal's side (the obstacle stays on the other side); later, the side used before, so
+    /// repeated stalls in one trap keep going around it the same way. A stall where following
+    /// started before, with no progress since, is a loop: the other side this time, and after
+    /// that only leave for a point closer to the goal than ever.
+    fn start_following(&mut self, s: &Sensed, t_s: f64) -> FollowState {
+        let p = self.params;
+        let best_ever = self.best_ever;
+        let repeats = self
+            .hits
+            .iter()
+            .filter(|h| h.at.distance(s.position) < p.hit_radius_m && best_ever > h.best_ever_m - p.progress_m);
+        let (count, last) = repeats.fold((0usize, None), |(n, _), h| (n + 1, Some(h.side)));
+        let side = match last {
+            Some(side) => other(side),
+            None => self.last_side.unwrap_or(if s.goal_angle >= 0.0 { Side::Right } else { Side::Left }),
+        };
+        self.hits.push(Hit { at: s.position, side, best_ever_m: best_ever });
+        self.last_side = Some(side);
+        self.follows += 1;
+        FollowState {
+            side,
+            entry_distance_m: s.goal_distance,
+            since_s: t_s,
+            followed_min_m: s.obstacle_goal_distance.min(s.goal_distance),
+            wall_seen_s: t_s,
+            stalled_reach_m: s.reachable_goal_distance,
+            strict: count >= 2,
+            best_ever_m: best_ever,
+            hit: s.position,
+            left_hit: false,
+        }
+    }
+
+    /// One step of boundary following: leave (TangentBug's rule, the goal closer than at the
+    /// start, or the wall lost), switch side (back at the hit point), or go on.
+    fn keep_following(
+        &mut self,
+        f: FollowState,
+        step: Option<FollowStep>,
+        s: &Sensed,
+        goal_visible: bool,
+        t_s: f64,
+    ) -> Mode {
+        let p = self.params;
+        // TangentBug: the closest the followed wall has come to the goal (its nearest points
+        // on the followed side), against the closest free point reachable in a straight line.
+        let wall_goal = match step {
+            Some(w) => (s.position + DVec2::from_angle(w.wall_direction) * (w.wall_m + s.radius)).distance(s.goal),
+            None => s.obstacle_goal_distance,
+        };
+        let followed_min_m = f.followed_min_m.min(wall_goal);
+        // A way closer than the one goal seeking stalled on.
+        let mut bound = followed_min_m.min(f.stalled_reach_m);
+        if f.strict {
+            bound = bound.min(f.best_ever_m);
+        }
+        let reachable = s.reachable_goal_distance < bound - p.leave_margin_m;
+        let away = s.position.distance(f.hit);
+        let back_at_hit = f.left_hit && away < p.hit_radius_m * 0.5;
+        let left_hit = (f.left_hit && !back_at_hit) || away > p.hit_radius_m * 2.0;
+        let seen = match step {
+            Some(w) => w.wall_m < p.wall_lost_m,
+            None => s.scan.is_empty() && s.nearest < p.wall_lost_m,
+        };
+        let wall_seen_s = if seen { t_s } else { f.wall_seen_s };
+        let entry = if f.strict { f.entry_distance_m.min(f.best_ever_m) } else { f.entry_distance_m };
+        let closer = s.goal_distance < entry - p.leave_margin_m && goal_visible;
+        if closer || reachable || t_s - wall_seen_s > p.wall_lost_s {
+            self.last_progress_s = t_s;
+            self.best_distance = s.goal_distance;
+            Mode::Seek
+        } else if t_s - f.since_s > p.max_follow_s || back_at_hit {
+            Mode::Follow(FollowState {
+                side: other(f.side),
+                since_s: t_s,
+                followed_min_m,
+                wall_seen_s,
+                hit: s.position,
+                left_hit: false,
+                ..f
+            })
+        } else {
+            Mode::Follow(FollowState { followed_min_m, wall_seen_s, left_hit, ..f })
+        }
+    }
+}
+
+/// Speed step of the search for a speed at which the body can make a turn, m/s.
+const REACH_SPEED_STEP: f64 = 0.05;
+
+/// `command` shaped to what `body` can follow: a turn sharper than the body can make at the
+/// commanded speed keeps its curvature at the highest lower speed where the body can make it,
+/// or becomes a turn on the spot at the body's limit there.
+pub fn within_reach(command: Command, body: &dyn Body) -> Command {
+    let Command { turn_rate, speed } = command;
+    if turn_rate.abs() <= body.turn_limit(speed) {
+        return command;
+    }
+    let curvature = turn_rate / speed.max(1e-9);
+    let steps = (speed / REACH_SPEED_STEP).ceil() as usize;
+    for k in (1..steps).rev() {
+        let v = k as f64 * REACH_SPEED_STEP;
+        if (curvature * v).abs() <= body.turn_limit(v) {
+            return Command { turn_rate: curvature * v, speed: v };
+        }
+    }
+    Command { turn_rate: turn_rate.signum() * turn_rate.abs().min(body.turn_limit(0.0)), speed: 0.0 }
 }
 
 fn other(side: Side) -> Side {
     match side {
         Side::Left => Side::Right,
         Side::Right => Side::Left,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{KinematicDisc, Space, StepOutcome};
+    use crate::world::Pose;
+
+    /// A body that turns at most 1 rad/s at 1 m/s and faster when slower (2 rad/s standing).
+    struct Slow;
+
+    impl Body for Slow {
+        fn pose(&self) -> Pose {
+            Pose { position: DVec2::ZERO, yaw: 0.0 }
+        }
+        fn speed(&self) -> f64 {
+            0.0
+        }
+        fn radius(&self) -> f64 {
+            0.3
+        }
+        fn turn_limit(&self, speed: f64) -> f64 {
+            2.0 - speed.clamp(0.0, 1.0)
+        }
+        fn step(&mut self, _: Command, _: f64, _: &mut dyn Space) -> StepOutcome {
+            StepOutcome::default()
+        }
+    }
+
+    #[test]
+    fn commands_are_shaped_to_the_body() {
+        // Within reach: unchanged.
+        let c = Command { turn_rate: 0.5, speed: 1.0 };
+        assert_eq!(within_reach(c, &Slow), c);
+        // Too sharp at 1 m/s: the same curvature (1.5 rad/m) at the highest speed that can make
+        // it (1.5·v ≤ 2 − v, v ≤ 0.8).
+        let c = within_reach(Command { turn_rate: 1.5, speed: 1.0 }, &Slow);
+        assert!((c.turn_rate / c.speed - 1.5).abs() < 1e-9 && c.speed <= 0.8 + 1e-9 && c.speed > 0.7, "{c:?}");
+        // Sharper than anything while moving: a turn on the spot at the standing limit.
+        let c = within_reach(Command { turn_rate: -50.0, speed: 0.5 }, &Slow);
+        assert_eq!(c, Command { turn_rate: -2.0, speed: 0.0 });
+        // The disc turns 2.5 rad/s at any speed: a sharper command keeps its curvature.
+        let disc = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.0 }, Default::default());
+        let c = within_reach(Command { turn_rate: 3.0, speed: 1.0 }, &disc);
+        assert!(c.turn_rate <= 2.5 && (c.turn_rate / c.speed - 3.0).abs() < 1e-9, "{c:?}");
     }
 }

@@ -196,8 +196,8 @@ fn side(app: &App, area: Rect, buf: &mut Buffer) {
 fn mode_text(m: Mode) -> String {
     match m {
         Mode::Seek => "seek".into(),
-        Mode::Follow { side: Side::Left, .. } => "follow, wall left".into(),
-        Mode::Follow { side: Side::Right, .. } => "follow, wall right".into(),
+        Mode::Follow(f) if f.side == Side::Left => "follow, wall left".into(),
+        Mode::Follow(_) => "follow, wall right".into(),
     }
 }
 
@@ -221,7 +221,7 @@ fn agent_panel(app: &App, area: Rect, buf: &mut Buffer) {
         Line::raw(format!("t {:.1} s  path {:.1} m  v {:.2} m/s", m.time_s, m.path_length_m, agent.body.speed())),
         Line::raw(format!(
             "clearance {:.2} m  collisions {}  stalls {}",
-            m.min_clearance_m, m.collisions, m.blocked_steps
+            m.min_clearance_m, m.collisions, m.stalled_steps
         )),
     ];
     if let Some(b) = agent.body.animated() {
