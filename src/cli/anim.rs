@@ -43,6 +43,8 @@ pub enum DbCommand {
         #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
         transition: TransitionArg,
     },
+    /// Draw a side-view strip of a clip's frames as a PNG.
+    Strip(super::db_strip::StripArgs),
     /// Write the built-in generated clips as a database directory of BVH files.
     Export {
         /// Output directory.
@@ -332,6 +334,7 @@ pub fn db(command: DbCommand) -> Outcome {
             );
             Ok(())
         }
+        DbCommand::Strip(a) => super::db_strip::run(a),
         DbCommand::Export { out } => {
             let db = builtin_database()?;
             save_database(&db, &out)?;
