@@ -24,9 +24,15 @@ pub struct StripArgs {
     /// PNG file to write.
     #[arg(long)]
     pub out: PathBuf,
-    /// Draw every N-th frame (the last frame is always drawn).
+    /// Draw every N-th frame (the last frame of the range is always drawn).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     pub every: u32,
+    /// First frame drawn.
+    #[arg(long, default_value_t = 0)]
+    pub first: usize,
+    /// Last frame drawn (default: the clip's last).
+    #[arg(long)]
+    pub last: Option<usize>,
     /// Image size WIDTHxHEIGHT in pixels (default: 110 pixels per pose, 300 high).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
@@ -54,8 +60,13 @@ pub fn run(a: StripArgs) -> Outcome {
         let names: Vec<&str> = db.clips.iter().map(|c| c.name.as_str()).collect();
         anyhow!("no clip named '{}'; the clips are: {}", a.clip, names.join(", "))
     })?;
-    let poses: Vec<StripPose> = strip_frames(clip.frames.len(), a.every as usize)
+    let last = a.last.unwrap_or(usize::MAX).min(clip.frames.len() - 1);
+    if a.first > last {
+        return Err(anyhow!("--first {} is after the last frame drawn ({last})", a.first).into());
+    }
+    let poses: Vec<StripPose> = strip_frames(last + 1 - a.first, a.every as usize)
         .into_iter()
+        .map(|f| f + a.first)
         .map(|f| {
             let mut pose = clip.frames[f].clone();
             Ground::of(&pose, db.forward_offset).transform_pose(&mut pose, true);
