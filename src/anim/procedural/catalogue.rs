@@ -512,34 +512,335 @@ pub(crate) mod tests {
         clips.iter().find(|c| c.name == name).unwrap_or_else(|| panic!("{name} missing"))
     }
 
+    /// Pelvis heights of a clip, metres.
+    fn heights(c: &Clip) -> Vec<f64> {
+        c.frames.iter().map(|f| f.root.z).collect()
+    }
+
     #[test]
-    fn gait_report() {
+    fn walking_knees_and_pelvis_follow_human_gait() {
         let clips = default_clips();
-        for g in Gait::presets() {
+        for g in [Gait::slow_walk(), Gait::walk()] {
             let c = find(&clips, &format!("{}_straight", g.name));
             let stride = 2.0 * g.step_time_s;
             let at = |t: f64| knee(&c.frames[frame(c, t)], 0).to_degrees();
-            let swing: Vec<f64> = (frame(c, g.stance_time_s())..frame(c, stride)).map(|j| knee(&c.frames[j], 0).to_degrees()).collect();
-            let peak = swing.iter().cloned().fold(0.0, f64::max);
-            let z: Vec<f64> = c.frames.iter().map(|f| f.root.z).collect();
-            let (lo, hi) = z.iter().fold((9.0f64, 0.0f64), |(a, b), &z| (a.min(z), b.max(z)));
+            let (hs, load, mid, off) = (at(0.0), at(0.12 * stride), at(0.25 * stride), at(g.stance_time_s()));
+            let peak = (frame(c, g.stance_time_s())..frame(c, stride)).map(|j| knee(&c.frames[j], 0).to_degrees()).fold(0.0, f64::max);
+            eprintln!("{}: knee at heel strike {hs:.1}°, loading {load:.1}°, mid-stance {mid:.1}°, toe-off {off:.1}°, swing peak {peak:.1}°", g.name);
+            assert!((0.0..=8.0).contains(&hs), "{}: heel strike {hs}", g.name);
+            assert!((12.0..=20.0).contains(&load), "{}: loading {load}", g.name);
+            assert!(mid <= 10.0, "{}: mid-stance {mid}", g.name);
+            assert!((30.0..=45.0).contains(&off), "{}: toe-off {off}", g.name);
+            assert!((55.0..=70.0).contains(&peak), "{}: swing peak {peak}", g.name);
+            // The knee stays nearly straight from mid-stance to heel-off.
+            let terminal = (frame(c, 0.25 * stride)..frame(c, 0.4 * stride)).map(|j| knee(&c.frames[j], 0).to_degrees()).fold(0.0, f64::max);
+            assert!(terminal <= 10.0, "{}: terminal stance {terminal}", g.name);
+            // The pelvis vaults over the stance leg: highest near mid-stance, lowest in double
+            // support.
+            let z = heights(c);
+            let step = frame(c, g.step_time_s);
+            let one = &z[..=step];
+            let hi = one.iter().cloned().enumerate().fold((0, 0.0), |a, (j, z)| if z > a.1 { (j, z) } else { a });
+            let lo = one.iter().cloned().enumerate().fold((0, 9.0), |a, (j, z)| if z < a.1 { (j, z) } else { a });
+            let phase = |j: usize| j as f64 * c.frame_time / stride;
+            let ds = (2.0 * g.duty_factor - 1.0) + 0.02;
+            eprintln!("{}: pelvis {:.3} m at {:.0} % of the stride, {:.3} m at {:.0} %", g.name, hi.1, 100.0 * phase(hi.0), lo.1, 100.0 * phase(lo.0));
+            assert!((0.15..=0.35).contains(&phase(hi.0)), "{}: highest at {}", g.name, phase(hi.0));
+            assert!(phase(lo.0) <= ds || phase(lo.0) >= 0.48, "{}: lowest at {}", g.name, phase(lo.0));
+            let range = hi.1 - lo.1;
+            if g.name == "walk" {
+                assert!((0.03..=0.05).contains(&(range + 1e-4)), "walk pelvis moves {range} m");
+            }
+            assert!(hi.1 <= STANDING_PELVIS_M + 0.005);
+        }
+    }
+
+    #[test]
+    fn feet_strike_with_the_heel_and_leave_from_the_toe() {
+        let clips = default_clips();
+        for g in [Gait::slow_walk(), Gait::walk()] {
+            let c = find(&clips, &format!("{}_straight", g.name));
+            let p = sole_points(c);
+            let s = actor::actor();
+            let rig = Rig::of(&s);
+            let mut globals = Vec::new();
+            let mut pitch = |j: usize| {
+                s.globals(&c.frames[j], &mut globals);
+                -(globals[rig.foot[0]].1 * DVec3::X).z.asin()
+            };
+            // Heel strike: toes up 10–20°, heel on the ground, toe above it.
+            let up = -pitch(0).to_degrees();
+            assert!((10.0..=20.0).contains(&up), "{}: toes up {up}°", g.name);
+            assert!(p[0][0][1].z.abs() < 1e-9 && p[0][0][0].z > 0.04);
+            // Foot flat by 10–15 % of the stride.
+            let stride = 2.0 * g.step_time_s;
+            let flat = (0..c.frames.len()).find(|&j| p[j][0][0].z < 1e-6).unwrap();
+            let flat_phase = flat as f64 * c.frame_time / stride;
+            assert!((0.05..=0.15).contains(&flat_phase), "{}: flat at {flat_phase}", g.name);
+            // Heel-off after mid-stance, while the toe stays planted; toe-off at the end of stance.
+            let heel_off = (flat..c.frames.len()).find(|&j| p[j][0][1].z > 0.005).unwrap();
+            let toe_off = (heel_off..c.frames.len()).find(|&j| p[j][0][0].z > 0.005).unwrap();
+            let (ho, to) = (heel_off as f64 * c.frame_time / stride, toe_off as f64 * c.frame_time / stride);
+            eprintln!("{}: foot flat at {:.0} %, heel-off at {:.0} %, toe-off at {:.0} % of the stride", g.name, 100.0 * flat_phase, 100.0 * ho, 100.0 * to);
+            assert!(ho > 0.25 && ho < to - 0.1, "{}: heel-off at {ho}, toe-off at {to}", g.name);
+            assert!((to - g.duty_factor).abs() < 0.03, "{}: toe-off at {to}", g.name);
+            // While the heel rises the toe does not move.
+            for j in heel_off..toe_off {
+                if p[j + 1][0][0].z < 1e-6 {
+                    assert!((p[j + 1][0][0] - p[j][0][0]).length() < 1e-6, "{} frame {j}", g.name);
+                }
+            }
+            // While the heel carries the foot it does not move.
+            for j in 0..flat - 1 {
+                assert!((p[j + 1][0][1] - p[j][0][1]).length() < 1e-4, "{} frame {j}", g.name);
+            }
+        }
+    }
+
+    #[test]
+    fn running_flies_and_sinks_at_mid_stance() {
+        let clips = default_clips();
+        for g in [Gait::jog(), Gait::run(), Gait::sprint()] {
+            let c = find(&clips, &format!("{}_straight", g.name));
+            let on = grounded(c);
+            let flight = on.iter().filter(|o| !o[0] && !o[1]).count();
+            let steps = DEFAULT_STEPS;
+            // Every step has its flight.
+            let mut flights = 0;
+            for w in on.windows(2) {
+                if (w[0][0] || w[0][1]) && !w[1][0] && !w[1][1] {
+                    flights += 1;
+                }
+            }
+            assert!(flights >= steps - 1 && on.iter().all(|o| !(o[0] && o[1])), "{}: {flights} flights", g.name);
+            let mid = knee(&c.frames[frame(c, 0.5 * g.stance_time_s())], 0).to_degrees();
+            let z = heights(c);
             let mean = z.iter().sum::<f64>() / z.len() as f64;
-            eprintln!(
-                "{}: knee hs {:.1} load {:.1} mid {:.1} off {:.1} swing peak {:.1}; pelvis {:.3}..{:.3} mean {:.3}; skate {:.4}",
-                g.name,
-                at(0.0),
-                at(0.12 * stride),
-                at(if g.is_running() { 0.5 * g.stance_time_s() } else { 0.25 * stride }),
-                at(g.stance_time_s()),
-                peak,
-                lo,
-                hi,
-                mean,
-                skating_cm(c)
-            );
+            let stance: Vec<f64> = z[..=frame(c, g.stance_time_s())].to_vec();
+            let lowest = stance.iter().cloned().enumerate().fold((0, 9.0), |a, (j, z)| if z < a.1 { (j, z) } else { a }).0;
+            let at = lowest as f64 * c.frame_time / g.stance_time_s();
+            eprintln!("{}: {flight} flight frames, knee at mid-stance {mid:.1}°, pelvis mean {mean:.3} m, lowest at {:.0} % of stance", g.name, 100.0 * at);
+            assert!((35.0..=45.0).contains(&mid), "{}: mid-stance knee {mid}", g.name);
+            assert!((0.3..=0.75).contains(&at), "{}: lowest at {at} of stance", g.name);
+            if g.name != "sprint" {
+                assert!(STANDING_PELVIS_M - mean < 0.06, "{}: mean pelvis {mean}", g.name);
+            }
         }
+    }
+
+    #[test]
+    fn arms_swing_opposite_to_the_legs() {
+        let clips = default_clips();
+        let s = actor::actor();
+        let rig = Rig::of(&s);
+        let mut elbows = Vec::new();
+        for g in Gait::presets() {
+            let c = find(&clips, &format!("{}_straight", g.name));
+            let mut same = 0;
+            let mut mean_elbow = 0.0;
+            for f in &c.frames {
+                let p = s.positions(f);
+                let mut g2 = Vec::new();
+                s.globals(f, &mut g2);
+                let (lf, rf) = (p[rig.foot[0]], p[rig.foot[1]]);
+                // Ahead relative to the pelvis heading.
+                let fwd = DQuat::from_rotation_z(heading(f.rotations[0])) * DVec3::X;
+                let legs = (lf - rf).dot(fwd);
+                // Shoulder flexion: forward is negative.
+                let flex = |i: usize| {
+                    let q = f.rotations[rig.arm[i]];
+                    2.0 * q.y.atan2(q.w)
+                };
+                let arms = flex(1) - flex(0);
+                if legs.abs() > 0.3 && arms.abs() > 0.03 && legs * arms > 0.0 {
+                    same += 1;
+                }
+                mean_elbow += 2.0 * (-f.rotations[rig.fore_arm[0]].y).atan2(f.rotations[rig.fore_arm[0]].w);
+            }
+            assert_eq!(same, 0, "{}: arms with the legs in {same} frames", g.name);
+            elbows.push(mean_elbow / c.frames.len() as f64);
+        }
+        // More elbow bend when running.
+        assert!(elbows[2] > 2.0 * elbows[1] && elbows[4] >= elbows[3], "{elbows:?}");
+    }
+
+    #[test]
+    fn no_clip_skates() {
+        for c in &default_clips() {
+            let s = skating_cm(c);
+            eprintln!("{:<26} skating {s:.4} cm/frame", c.name);
+            // The sharp 90°-per-step slow walk turns so fast that its toes still slide a little
+            // while the heels come down.
+            let limit = if c.name.contains("sharp") { 0.05 } else { 0.03 };
+            assert!(s <= limit, "{}: toe and heel skate {s:.4} cm per frame", c.name);
+        }
+    }
+
+    #[test]
+    fn every_clip_has_its_exact_mirror() {
+        let clips = default_clips();
+        let pairs = mirror_pairs(&actor::actor());
+        let swap = |n: &str| -> String {
+            if n.contains("left") {
+                n.replace("left", "right")
+            } else if n.contains("right") {
+                n.replace("right", "left")
+            } else if let Some(b) = n.strip_suffix("_r") {
+                b.to_string()
+            } else {
+                format!("{n}_r")
+            }
+        };
+        let mut names: Vec<&str> = clips.iter().map(|c| c.name.as_str()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), clips.len(), "names are unique");
         for c in &clips {
-            eprintln!("{:<24} skate {:.4}", c.name, skating_cm(c));
+            if c.name.ends_with("_straight") || c.name == "idle" {
+                // Symmetric: the right steps mirror the left ones.
+                let m = c.mirrored(&pairs, c.name.clone());
+                let n = c.frames.len() - 1;
+                let half = if c.name == "idle" { 0 } else { n / DEFAULT_STEPS };
+                for j in 0..=n - half {
+                    same_relative_pose(&c.frames[j + half], &m.frames[j], 1e-6).map_err(|e| format!("{} {j}: {e}", c.name)).unwrap();
+                }
+                continue;
+            }
+            let other = find(&clips, &swap(&c.name));
+            assert_eq!(&c.mirrored(&pairs, other.name.clone()), other, "{} mirrors {}", c.name, other.name);
         }
+    }
+
+    #[test]
+    fn starts_stops_speed_changes_and_pivots_join_their_neighbours() {
+        let clips = default_clips();
+        let idle = find(&clips, "idle");
+        let standing = &idle.frames[0];
+        let last = |c: &Clip| c.frames.last().unwrap().clone();
+        for g in ["slow_walk", "walk"] {
+            let steady = find(&clips, &format!("{g}_straight"));
+            let step = (steady.frames.len() - 1) / DEFAULT_STEPS;
+            let (left, right) = (&steady.frames[0], &steady.frames[step]);
+            for (suffix, first_plant, other_plant) in [("", left, right), ("_r", right, left)] {
+                let start = find(&clips, &format!("{g}_start{suffix}"));
+                same_relative_pose(standing, &start.frames[0], 1e-6).unwrap();
+                same_relative_pose(&last(start), other_plant, 1e-6).map_err(|e| format!("{g}_start{suffix}: {e}")).unwrap();
+                let stop = find(&clips, &format!("{g}_stop{suffix}"));
+                same_relative_pose(&stop.frames[0], first_plant, 1e-6).map_err(|e| format!("{g}_stop{suffix}: {e}")).unwrap();
+                same_relative_pose(&last(stop), standing, 1e-6).map_err(|e| format!("{g}_stop{suffix}: {e}")).unwrap();
+                // Stops take at most two steps; everything moves forward only.
+                assert!(stop.duration() < 2.0 * 2.0 * Gait::walk().step_time_s + 0.6);
+                for c in [start, stop] {
+                    assert!(c.frames.windows(2).all(|w| (w[1].root - w[0].root).truncate().dot(glam::DVec2::X) >= -1e-9), "{}", c.name);
+                }
+            }
+        }
+        for (a, b) in [("slow_walk", "walk"), ("walk", "slow_walk")] {
+            let (fa, fb) = (find(&clips, &format!("{a}_straight")), find(&clips, &format!("{b}_straight")));
+            let (sa, sb) = ((fa.frames.len() - 1) / DEFAULT_STEPS, (fb.frames.len() - 1) / DEFAULT_STEPS);
+            for (suffix, ja, jb) in [("", 0, 0), ("_r", sa, sb)] {
+                let c = find(&clips, &format!("{a}_to_{b}{suffix}"));
+                same_relative_pose(&c.frames[0], &fa.frames[ja], 1e-6).map_err(|e| format!("{}: {e}", c.name)).unwrap();
+                same_relative_pose(&last(c), &fb.frames[jb], 1e-6).map_err(|e| format!("{}: {e}", c.name)).unwrap();
+            }
+        }
+        for side in ["left", "right"] {
+            for deg in [45.0, 90.0] {
+                let c = find(&clips, &format!("pivot_{side}{deg}"));
+                same_relative_pose(standing, &c.frames[0], 1e-6).unwrap();
+                same_relative_pose(&last(c), standing, 1e-6).map_err(|e| format!("{}: {e}", c.name)).unwrap();
+                let sign = if side == "left" { 1.0 } else { -1.0 };
+                let total = turned(c).to_degrees();
+                assert!((total - sign * deg).abs() < 0.5, "{}: {total}°", c.name);
+                // The pelvis stays where it stood: within 3 cm over each step.
+                let start = c.frames[0].root.truncate();
+                let far = c.frames.iter().map(|f| (f.root.truncate() - start).length()).fold(0.0, f64::max);
+                assert!(far < 0.03, "{}: the pelvis moves {far} m", c.name);
+            }
+        }
+    }
+
+    #[test]
+    fn clips_repeat_seamlessly_and_turn_as_asked() {
+        let clips = default_clips();
+        for c in &clips {
+            let cyclic = !["start", "stop", "_to_", "pivot"].iter().any(|k| c.name.contains(k));
+            if cyclic {
+                // Turning runs repeat to a tenth of a milliradian: their heading schedule is found
+                // numerically.
+                let tol = if c.name.contains("straight") || !c.name.starts_with("run") { 1e-6 } else { 1e-3 };
+                same_relative_pose(&c.frames[0], c.frames.last().unwrap(), tol).map_err(|e| format!("{}: {e}", c.name)).unwrap();
+            }
+            assert!(c.frames.len() > 10 && (c.frame_time - 1.0 / FRAME_RATE_HZ).abs() < 1e-9);
+            for (j, f) in c.frames.iter().enumerate() {
+                assert!(f.root.is_finite(), "{} frame {j}", c.name);
+                for q in &f.rotations {
+                    assert!(q.is_finite() && (q.length() - 1.0).abs() < 1e-9, "{} frame {j}: {q}", c.name);
+                }
+            }
+            // Feet never go below the ground, and never through each other.
+            for (j, p) in sole_points(c).iter().enumerate() {
+                for foot in p {
+                    assert!(foot[0].z > -1e-6 && foot[1].z > -1e-6, "{} frame {j}: {foot:?}", c.name);
+                }
+            }
+        }
+        for (name, deg) in [
+            ("walk_left90", 90.0),
+            ("run_right90", -90.0),
+            ("jog_right30", -180.0),
+            ("sprint_left15", 90.0),
+            ("walk_left60", 360.0),
+            ("slow_walk_sharp_right90", -540.0),
+        ] {
+            let total = turned(find(&clips, name)).to_degrees();
+            assert!((total - deg).abs() < 1.0, "{name}: {total}°");
+        }
+        let walk = locomotion(&Gait::walk(), 0.0, 4, FRAME_RATE_HZ, "w");
+        // Half-way it is the right foot's turn, not the same pose.
+        assert!(same_relative_pose(&walk.frames[0], &walk.frames[walk.frames.len() / 4], 1e-3).is_err());
+        let (first, end) = (walk.frames[0].root, walk.frames.last().unwrap().root);
+        assert!(((end - first).length() / walk.duration() / 1.35 - 1.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn rotations_use_only_the_actor_channels() {
+        let s = actor::actor();
+        let clips = [locomotion(&Gait::run(), 0.3, 2, 60.0, "r"), start_clip(&Gait::walk()), pivot_clip(1.0, "p")];
+        for (i, joint) in s.joints().iter().enumerate() {
+            let axes: Vec<Channel> = joint.channels.iter().copied().filter(|c| !c.is_position()).collect();
+            let (order, used) = match axes.as_slice() {
+                [] => (EulerRot::YXZ, 0),
+                [Channel::ZRotation] => (EulerRot::ZXY, 1),
+                [Channel::YRotation] => (EulerRot::YXZ, 1),
+                [Channel::YRotation, Channel::XRotation] => (EulerRot::YXZ, 2),
+                [Channel::YRotation, Channel::ZRotation] => (EulerRot::YZX, 2),
+                [Channel::YRotation, Channel::XRotation, Channel::ZRotation] => (EulerRot::YXZ, 3),
+                other => panic!("unexpected channels {other:?}"),
+            };
+            for clip in &clips {
+                for f in &clip.frames {
+                    let q = f.rotations[i];
+                    let (a, b, c) = q.to_euler(order);
+                    let mut e = [a, b, c];
+                    e[used..].iter_mut().for_each(|x| *x = 0.0);
+                    let back = DQuat::from_euler(order, e[0], e[1], e[2]);
+                    assert!(angle_between(q, back) < 1e-7, "{} in {}: {q}", joint.name, clip.name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn generation_is_deterministic_and_gives_the_database_enough_steps() {
+        let (a, b) = (default_clips(), default_clips());
+        assert_eq!(a, b);
+        let db = crate::anim::Database::build(a, actor::actor(), crate::anim::DbParams::default(), None).unwrap();
+        assert!(db.intervals.len() > 250, "{} intervals", db.intervals.len());
+        // Odd step counts are rounded up; bad frame rates fall back to 60 Hz.
+        let clip = locomotion(&Gait::walk(), 0.0, 3, f64::NAN, "x");
+        assert!((clip.duration() - 4.0 * Gait::walk().step_time_s).abs() < 1e-9);
+        assert!((clip.frame_time - 1.0 / 60.0).abs() < 1e-9);
+        let _ = ANKLE_HEIGHT_M;
     }
 }

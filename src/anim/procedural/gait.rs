@@ -81,7 +81,7 @@ impl Gait {
             elbow_rad: 0.2,
             lean_rad: 0.02,
             twist_rad: 0.03,
-            heel_strike_rad: 12f64.to_radians(),
+            heel_strike_rad: 16f64.to_radians(),
             knee_strike_rad: 4f64.to_radians(),
             knee_load_rad: 15f64.to_radians(),
             knee_mid_rad: 5f64.to_radians(),

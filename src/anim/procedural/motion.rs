@@ -308,7 +308,9 @@ impl Cycle {
     pub(crate) fn of(g: &Gait) -> Cycle {
         // Mid-stance of the left foot, in stride phase.
         let mid = 0.5 * g.duty_factor;
-        let lag = 0.04;
+        // The arms pass each other when the legs do, at mid-stance, and are furthest apart a
+        // quarter of a stride earlier and later.
+        let lag = mid - 0.25;
         let (a, off) = (g.arm_swing_rad, -0.15 * g.arm_swing_rad);
         Cycle {
             sway: KeyCurve::periodic(&[(mid, g.sway_m), (mid + 0.25, 0.0), (mid + 0.5, -g.sway_m), (mid + 0.75, 0.0)]),
@@ -468,7 +470,7 @@ impl Motion {
 
     /// The heading table: the heading turns toward its goal only while the feet let it.
     fn build_yaw_table(&mut self, t_lo: f64, t_hi: f64) {
-        let (lo, hi) = (t_lo - 1.0, t_hi + 1.0);
+        let (lo, hi) = (t_lo - 3.0, t_hi + 3.0);
         let n = ((hi - lo) / YAW_DT).ceil() as usize + 1;
         let freedom: Vec<f64> =
             (0..n).map(|j| self.feet.iter().map(|f| f.turn_freedom(lo + j as f64 * YAW_DT)).product()).collect();
@@ -486,6 +488,10 @@ impl Motion {
             let start = j;
             while j < n && freedom[j] <= 1e-12 {
                 j += 1;
+            }
+            if start == 0 || j == n {
+                // Cut by the table's ends: its middle is unknown.
+                continue;
             }
             let mid = (start + j - 1) / 2;
             let t = lo + mid as f64 * YAW_DT;
@@ -601,9 +607,10 @@ impl Motion {
         let (a, b) = (&ws[j - 1], &ws[j]);
         let h = 1e-4;
         let (za, zb) = (self.window_height(a, a.t1), self.window_height(b, b.t0));
-        let da = (za - self.window_height(a, a.t1 - h)) / h;
-        // Arriving level or descending, never rising: a rising arrival would make the bridge dip
-        // below both ends and buckle the stance knee.
+        // Leaving level or rising, never falling: a falling start would dip below both ends.
+        let da = ((za - self.window_height(a, a.t1 - h)) / h).max(0.0);
+        // Arriving level or descending, never rising, for the same reason (a dip would buckle
+        // the stance knee).
         let db = ((self.window_height(b, b.t0 + h) - zb) / h).min(0.0);
         hermite(t, a.t1, b.t0, za, zb, da, db)
     }
@@ -645,11 +652,12 @@ impl Motion {
         // Keep the toe and the heel off the ground away from the ends.
         let clearance = SWING_CLEARANCE_M * smoothstep(tau / 0.12) * smoothstep((1.0 - tau) / 0.12);
         let foot = FOOT_FORWARD_M + HEEL_BACK_M;
+        let room = (z - clearance).max(0.0);
         if heel > 0.0 {
-            pitch = pitch.min(((z - clearance) / (foot * heel)).clamp(-1.0, 1.0).asin());
+            pitch = pitch.min((room / (foot * heel)).min(1.0).asin());
         }
         if heel < 1.0 {
-            pitch = pitch.max(-((z - clearance) / (foot * (1.0 - heel))).clamp(-1.0, 1.0).asin());
+            pitch = pitch.max(-(room / (foot * (1.0 - heel))).min(1.0).asin());
         }
         FootTarget { point: ground.extend(z), local: sole_point(heel), yaw: self.yaw(t), pitch, planted: false }
     }
