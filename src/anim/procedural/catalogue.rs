@@ -26,7 +26,9 @@ use rayon::prelude::*;
 
 use super::curves::{KeyCurve, Ramp};
 use super::gait::Gait;
-use super::motion::{Footfall, Height, Late, Layer, Motion, NEVER_AFTER, NEVER_BEFORE, Path, Progress, Window, on_frame, standing_knee};
+use super::motion::{
+    Footfall, Height, Late, Layer, Motion, NEVER_AFTER, NEVER_BEFORE, Path, Progress, Window, on_frame, standing_knee,
+};
 use super::{FRAME_RATE_HZ, STANDING_PELVIS_M};
 use crate::anim::actor::{self, HIP_HALF_WIDTH_M};
 use crate::anim::clip::{Clip, mirror_pairs};
@@ -148,7 +150,8 @@ fn start_motion(gait: &Gait) -> (Motion, f64) {
     let r1 = Footfall::steady(gait, 1, path.beside(first + len, side(1), gait.foot_offset_m), t_r1);
     let l2 = Footfall::steady(gait, 0, path.beside(first + 2.0 * len, side(0), gait.foot_offset_m), t_r1 + st);
     let feet = vec![l0, r0, l1, r1, l2];
-    let mut windows = vec![Window { t0: NEVER_BEFORE, t1: 0.2, height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)) }];
+    let mut windows =
+        vec![Window { t0: NEVER_BEFORE, t1: 0.2, height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)) }];
     windows.extend(leg_windows(&feet, [2, 3, 4]));
     let layers = vec![Layer::new(gait, t_l1, Ramp::new(0.15, t_r1, 0.0, 1.0))];
     let mut m = Motion::new(path, progress, feet, windows, layers);
@@ -184,19 +187,28 @@ fn stop_motion(gait: &Gait) -> (Motion, f64) {
     let mut r1 = Footfall::steady(gait, 1, path.beside(last, side(1), HIP_HALF_WIDTH_M), st);
     r1.strike *= 0.7;
     r1.t_off = NEVER_AFTER;
-    r1.knee = KeyCurve::open(&[
-        (st, gait.knee_strike_rad),
-        (st + 0.2 * stance, 0.8 * gait.knee_load_rad),
-        (t_l2, stand),
-    ]);
-    let mut l2 = Footfall::standing(0, path.beside(last, side(0), HIP_HALF_WIDTH_M), 0.0, KeyCurve::constant(stand), NEVER_AFTER, NEVER_AFTER, Late::Solve);
+    r1.knee =
+        KeyCurve::open(&[(st, gait.knee_strike_rad), (st + 0.2 * stance, 0.8 * gait.knee_load_rad), (t_l2, stand)]);
+    let mut l2 = Footfall::standing(
+        0,
+        path.beside(last, side(0), HIP_HALF_WIDTH_M),
+        0.0,
+        KeyCurve::constant(stand),
+        NEVER_AFTER,
+        NEVER_AFTER,
+        Late::Solve,
+    );
     l2.t_on = t_l2;
     l2.t_flat = t_l2;
     l2.yaw_flat = None;
     l2.swing_height = 0.6 * gait.swing_height_m;
     let feet = vec![r_prev, l0, r1, l2];
     let mut windows = leg_windows(&feet, [1, 2]);
-    windows.push(Window { t0: end - 0.1, t1: NEVER_AFTER, height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)) });
+    windows.push(Window {
+        t0: end - 0.1,
+        t1: NEVER_AFTER,
+        height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)),
+    });
     let layers = vec![Layer::new(gait, 0.0, Ramp::new(0.25 * st, end - 0.05, 1.0, 0.0))];
     let m = Motion::new(path, progress, feet, windows, layers);
     (m.finish(0.0, end), end)
@@ -256,7 +268,15 @@ fn pivot_motion(turn: f64) -> (Motion, f64) {
     let (lift_r, land_r) = (land_l + 0.15, on_frame(land_l + 0.5));
     let end = on_frame(land_r + 0.3);
     let beside = |side: f64| DVec2::from_angle(turn).perp() * side * HIP_HALF_WIDTH_M;
-    let l0 = Footfall::standing(0, DVec2::new(0.0, HIP_HALF_WIDTH_M), 0.0, stand.clone(), 0.0, lift_l, Late::Pitch(KeyCurve::open(&[(0.08, 0.0), (lift_l, 0.5)])));
+    let l0 = Footfall::standing(
+        0,
+        DVec2::new(0.0, HIP_HALF_WIDTH_M),
+        0.0,
+        stand.clone(),
+        0.0,
+        lift_l,
+        Late::Pitch(KeyCurve::open(&[(0.08, 0.0), (lift_l, 0.5)])),
+    );
     let r0 = Footfall::standing(
         1,
         DVec2::new(0.0, -HIP_HALF_WIDTH_M),
@@ -267,7 +287,15 @@ fn pivot_motion(turn: f64) -> (Motion, f64) {
         Late::Pitch(KeyCurve::open(&[(0.05, 0.0), (0.3, 0.42), (land_l, 0.42), (lift_r, 0.6)])),
     );
     let flat = |side: usize, at: DVec2, t: f64| {
-        let mut f = Footfall::standing(side, at, turn, stand.clone(), NEVER_AFTER, NEVER_AFTER, Late::Pitch(KeyCurve::constant(0.0)));
+        let mut f = Footfall::standing(
+            side,
+            at,
+            turn,
+            stand.clone(),
+            NEVER_AFTER,
+            NEVER_AFTER,
+            Late::Pitch(KeyCurve::constant(0.0)),
+        );
         f.t_on = t;
         f.t_flat = t;
         f.strike = 0.0;
@@ -300,10 +328,13 @@ pub fn idle_clip(seconds: f64) -> Clip {
     let breaths = (seconds / 4.0).round().max(1.0);
     let n = 16 * breaths as usize;
     let breath = |j: usize| 0.5 * (1.0 - (2.0 * PI * breaths * j as f64 / n as f64).cos());
-    let keys: Vec<(f64, f64)> = (0..=n).map(|j| (seconds * j as f64 / n as f64, STANDING_PELVIS_M - BREATH_M * breath(j))).collect();
+    let keys: Vec<(f64, f64)> =
+        (0..=n).map(|j| (seconds * j as f64 / n as f64, STANDING_PELVIS_M - BREATH_M * breath(j))).collect();
     let lean: Vec<(f64, f64)> = (0..=n).map(|j| (seconds * j as f64 / n as f64, 0.01 * breath(j))).collect();
     let stand = standing_knee_curve();
-    let foot = |side: usize, y: f64| Footfall::standing(side, DVec2::new(0.0, y), 0.0, stand.clone(), NEVER_AFTER, NEVER_AFTER, Late::Solve);
+    let foot = |side: usize, y: f64| {
+        Footfall::standing(side, DVec2::new(0.0, y), 0.0, stand.clone(), NEVER_AFTER, NEVER_AFTER, Late::Solve)
+    };
     let feet = vec![foot(0, HIP_HALF_WIDTH_M), foot(1, -HIP_HALF_WIDTH_M)];
     let windows = vec![Window { t0: NEVER_BEFORE, t1: NEVER_AFTER, height: Height::Level(KeyCurve::open(&keys)) }];
     let mut m = Motion::new(Path::straight(), Progress::steady(0.0, 0.0), feet, windows, Vec::new());
@@ -452,9 +483,8 @@ pub(crate) mod tests {
         let p = sole_points(clip);
         let (mut sum, mut weight) = (0.0, 0.0);
         for w in p.windows(2) {
-            for i in 0..2 {
-                for k in 0..2 {
-                    let (a, b) = (w[0][i][k], w[1][i][k]);
+            for (before, after) in w[0].iter().zip(&w[1]) {
+                for (&a, &b) in before.iter().zip(after) {
                     let h = 0.5 * (a.z + b.z);
                     if h < SKATE_H {
                         let wt = 2.0 - 2f64.powf(h.max(0.0) / SKATE_H);
@@ -525,15 +555,22 @@ pub(crate) mod tests {
             let stride = 2.0 * g.step_time_s;
             let at = |t: f64| knee(&c.frames[frame(c, t)], 0).to_degrees();
             let (hs, load, mid, off) = (at(0.0), at(0.12 * stride), at(0.25 * stride), at(g.stance_time_s()));
-            let peak = (frame(c, g.stance_time_s())..frame(c, stride)).map(|j| knee(&c.frames[j], 0).to_degrees()).fold(0.0, f64::max);
-            eprintln!("{}: knee at heel strike {hs:.1}°, loading {load:.1}°, mid-stance {mid:.1}°, toe-off {off:.1}°, swing peak {peak:.1}°", g.name);
+            let peak = (frame(c, g.stance_time_s())..frame(c, stride))
+                .map(|j| knee(&c.frames[j], 0).to_degrees())
+                .fold(0.0, f64::max);
+            eprintln!(
+                "{}: knee at heel strike {hs:.1}°, loading {load:.1}°, mid-stance {mid:.1}°, toe-off {off:.1}°, swing peak {peak:.1}°",
+                g.name
+            );
             assert!((0.0..=8.0).contains(&hs), "{}: heel strike {hs}", g.name);
             assert!((12.0..=20.0).contains(&load), "{}: loading {load}", g.name);
             assert!(mid <= 10.0, "{}: mid-stance {mid}", g.name);
             assert!((30.0..=45.0).contains(&off), "{}: toe-off {off}", g.name);
             assert!((55.0..=70.0).contains(&peak), "{}: swing peak {peak}", g.name);
             // The knee stays nearly straight from mid-stance to heel-off.
-            let terminal = (frame(c, 0.25 * stride)..frame(c, 0.4 * stride)).map(|j| knee(&c.frames[j], 0).to_degrees()).fold(0.0, f64::max);
+            let terminal = (frame(c, 0.25 * stride)..frame(c, 0.4 * stride))
+                .map(|j| knee(&c.frames[j], 0).to_degrees())
+                .fold(0.0, f64::max);
             assert!(terminal <= 10.0, "{}: terminal stance {terminal}", g.name);
             // The pelvis vaults over the stance leg: highest near mid-stance, lowest in double
             // support.
@@ -544,7 +581,14 @@ pub(crate) mod tests {
             let lo = one.iter().cloned().enumerate().fold((0, 9.0), |a, (j, z)| if z < a.1 { (j, z) } else { a });
             let phase = |j: usize| j as f64 * c.frame_time / stride;
             let ds = (2.0 * g.duty_factor - 1.0) + 0.02;
-            eprintln!("{}: pelvis {:.3} m at {:.0} % of the stride, {:.3} m at {:.0} %", g.name, hi.1, 100.0 * phase(hi.0), lo.1, 100.0 * phase(lo.0));
+            eprintln!(
+                "{}: pelvis {:.3} m at {:.0} % of the stride, {:.3} m at {:.0} %",
+                g.name,
+                hi.1,
+                100.0 * phase(hi.0),
+                lo.1,
+                100.0 * phase(lo.0)
+            );
             assert!((0.15..=0.35).contains(&phase(hi.0)), "{}: highest at {}", g.name, phase(hi.0));
             assert!(phase(lo.0) <= ds || phase(lo.0) >= 0.48, "{}: lowest at {}", g.name, phase(lo.0));
             let range = hi.1 - lo.1;
@@ -581,7 +625,13 @@ pub(crate) mod tests {
             let heel_off = (flat..c.frames.len()).find(|&j| p[j][0][1].z > 0.005).unwrap();
             let toe_off = (heel_off..c.frames.len()).find(|&j| p[j][0][0].z > 0.005).unwrap();
             let (ho, to) = (heel_off as f64 * c.frame_time / stride, toe_off as f64 * c.frame_time / stride);
-            eprintln!("{}: foot flat at {:.0} %, heel-off at {:.0} %, toe-off at {:.0} % of the stride", g.name, 100.0 * flat_phase, 100.0 * ho, 100.0 * to);
+            eprintln!(
+                "{}: foot flat at {:.0} %, heel-off at {:.0} %, toe-off at {:.0} % of the stride",
+                g.name,
+                100.0 * flat_phase,
+                100.0 * ho,
+                100.0 * to
+            );
             assert!(ho > 0.25 && ho < to - 0.1, "{}: heel-off at {ho}, toe-off at {to}", g.name);
             assert!((to - g.duty_factor).abs() < 0.03, "{}: toe-off at {to}", g.name);
             // While the heel rises the toe does not move.
@@ -617,9 +667,14 @@ pub(crate) mod tests {
             let z = heights(c);
             let mean = z.iter().sum::<f64>() / z.len() as f64;
             let stance: Vec<f64> = z[..=frame(c, g.stance_time_s())].to_vec();
-            let lowest = stance.iter().cloned().enumerate().fold((0, 9.0), |a, (j, z)| if z < a.1 { (j, z) } else { a }).0;
+            let lowest =
+                stance.iter().cloned().enumerate().fold((0, 9.0), |a, (j, z)| if z < a.1 { (j, z) } else { a }).0;
             let at = lowest as f64 * c.frame_time / g.stance_time_s();
-            eprintln!("{}: {flight} flight frames, knee at mid-stance {mid:.1}°, pelvis mean {mean:.3} m, lowest at {:.0} % of stance", g.name, 100.0 * at);
+            eprintln!(
+                "{}: {flight} flight frames, knee at mid-stance {mid:.1}°, pelvis mean {mean:.3} m, lowest at {:.0} % of stance",
+                g.name,
+                100.0 * at
+            );
             assert!((35.0..=45.0).contains(&mid), "{}: mid-stance knee {mid}", g.name);
             assert!((0.3..=0.75).contains(&at), "{}: lowest at {at} of stance", g.name);
             if g.name != "sprint" {
@@ -702,7 +757,9 @@ pub(crate) mod tests {
                 let n = c.frames.len() - 1;
                 let half = if c.name == "idle" { 0 } else { n / DEFAULT_STEPS };
                 for j in 0..=n - half {
-                    same_relative_pose(&c.frames[j + half], &m.frames[j], 1e-6).map_err(|e| format!("{} {j}: {e}", c.name)).unwrap();
+                    same_relative_pose(&c.frames[j + half], &m.frames[j], 1e-6)
+                        .map_err(|e| format!("{} {j}: {e}", c.name))
+                        .unwrap();
                 }
                 continue;
             }
@@ -724,14 +781,22 @@ pub(crate) mod tests {
             for (suffix, first_plant, other_plant) in [("", left, right), ("_r", right, left)] {
                 let start = find(&clips, &format!("{g}_start{suffix}"));
                 same_relative_pose(standing, &start.frames[0], 1e-6).unwrap();
-                same_relative_pose(&last(start), other_plant, 1e-6).map_err(|e| format!("{g}_start{suffix}: {e}")).unwrap();
+                same_relative_pose(&last(start), other_plant, 1e-6)
+                    .map_err(|e| format!("{g}_start{suffix}: {e}"))
+                    .unwrap();
                 let stop = find(&clips, &format!("{g}_stop{suffix}"));
-                same_relative_pose(&stop.frames[0], first_plant, 1e-6).map_err(|e| format!("{g}_stop{suffix}: {e}")).unwrap();
+                same_relative_pose(&stop.frames[0], first_plant, 1e-6)
+                    .map_err(|e| format!("{g}_stop{suffix}: {e}"))
+                    .unwrap();
                 same_relative_pose(&last(stop), standing, 1e-6).map_err(|e| format!("{g}_stop{suffix}: {e}")).unwrap();
                 // Stops take at most two steps; everything moves forward only.
                 assert!(stop.duration() < 2.0 * 2.0 * Gait::walk().step_time_s + 0.6);
                 for c in [start, stop] {
-                    assert!(c.frames.windows(2).all(|w| (w[1].root - w[0].root).truncate().dot(glam::DVec2::X) >= -1e-9), "{}", c.name);
+                    assert!(
+                        c.frames.windows(2).all(|w| (w[1].root - w[0].root).truncate().dot(glam::DVec2::X) >= -1e-9),
+                        "{}",
+                        c.name
+                    );
                 }
             }
         }
@@ -769,7 +834,9 @@ pub(crate) mod tests {
                 // Turning runs repeat to a tenth of a milliradian: their heading schedule is found
                 // numerically.
                 let tol = if c.name.contains("straight") || !c.name.starts_with("run") { 1e-6 } else { 1e-3 };
-                same_relative_pose(&c.frames[0], c.frames.last().unwrap(), tol).map_err(|e| format!("{}: {e}", c.name)).unwrap();
+                same_relative_pose(&c.frames[0], c.frames.last().unwrap(), tol)
+                    .map_err(|e| format!("{}: {e}", c.name))
+                    .unwrap();
             }
             assert!(c.frames.len() > 10 && (c.frame_time - 1.0 / FRAME_RATE_HZ).abs() < 1e-9);
             for (j, f) in c.frames.iter().enumerate() {

@@ -156,7 +156,8 @@ pub(crate) fn place_leg(rig: &Rig, i: usize, target: &FootTarget, out: &mut Pose
         out.rotations[rig.up_leg[i]] = hip_q;
         out.rotations[rig.leg[i]] = knee_q;
         out.rotations[rig.foot[i]] = ankle_q;
-        let reached = hip + root_rot * (hip_q * (DVec3::new(0.0, 0.0, -THIGH_M) + knee_q * DVec3::new(0.0, 0.0, -SHIN_M)));
+        let reached =
+            hip + root_rot * (hip_q * (DVec3::new(0.0, 0.0, -THIGH_M) + knee_q * DVec3::new(0.0, 0.0, -SHIN_M)));
         let foot_q = root_rot * hip_q * knee_q * ankle_q;
         let error = target.point - (reached + foot_q * target.local);
         if error.length() < 1e-12 {

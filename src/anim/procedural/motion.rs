@@ -207,7 +207,15 @@ pub(crate) struct Footfall {
 impl Footfall {
     /// A foot standing flat at `ground` since forever with heading `yaw`, until `t_off` (late
     /// pitch `late` from `t_release`), its knee wanted at `knee`.
-    pub(crate) fn standing(side: usize, ground: DVec2, yaw: f64, knee: KeyCurve, t_release: f64, t_off: f64, late: Late) -> Footfall {
+    pub(crate) fn standing(
+        side: usize,
+        ground: DVec2,
+        yaw: f64,
+        knee: KeyCurve,
+        t_release: f64,
+        t_off: f64,
+        late: Late,
+    ) -> Footfall {
         Footfall {
             side,
             ground,
@@ -399,7 +407,13 @@ pub(crate) struct Motion {
 }
 
 impl Motion {
-    pub(crate) fn new(path: Path, progress: Progress, feet: Vec<Footfall>, windows: Vec<Window>, layers: Vec<Layer>) -> Motion {
+    pub(crate) fn new(
+        path: Path,
+        progress: Progress,
+        feet: Vec<Footfall>,
+        windows: Vec<Window>,
+        layers: Vec<Layer>,
+    ) -> Motion {
         Motion {
             path,
             progress,
