@@ -19,7 +19,7 @@ fn main() {
 }
 
 fn database() -> Database {
-    Database::build(procedural::default_clips(), actor::actor(), DbParams::default(), None).expect("built-in database")
+    procedural::default_database().expect("built-in database")
 }
 
 /// The default clips repeated `copies` times, each copy's joints turned by a small distinct
@@ -128,7 +128,7 @@ fn animated_step(bencher: Bencher) {
     let mut k = 0u32;
     bencher.bench_local(|| {
         k += 1;
-        let c = Command { turn_rate: if k % 80 < 40 { 0.5 } else { -0.5 }, speed: 1.2 };
+        let c = Command { turn_rate: if k % 80 < 40 { 0.5 } else { -0.5 }, speed: 1.2, toward: None };
         black_box(body.step(c, 0.05, &mut OpenSpace))
     });
 }

@@ -4,6 +4,7 @@
 //! error.
 
 pub mod anim;
+pub mod db_strip;
 pub mod experiment;
 pub mod fuzzy;
 pub mod render;

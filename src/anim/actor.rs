@@ -2,11 +2,12 @@
 //!
 //! The root (`Hips`) translates in three dimensions and turns on the standing plane (4 DOF); the
 //! waist (`Chest`) bends forward and twists (2 DOF); each arm has a 3-DOF shoulder and a 1-DOF
-//! elbow (4 DOF); each leg has a 2-DOF hip, a knee and an ankle (4 DOF). The head (`Neck`) rides
-//! on the chest without channels of its own. 4 + 2 + 2·4 + 2·4 = 22.
+//! elbow (4 DOF); each leg has a 2-DOF hip, a knee and an ankle (4 DOF). The neck (`Neck`, from
+//! the base of the neck to the base of the skull) and the head (`Head`, from there to the top of
+//! the head) ride on the chest without channels of their own. 4 + 2 + 2·4 + 2·4 = 22.
 //!
 //! Invariants: the bind pose stands on level ground (z = 0) facing +X, legs straight, arms
-//! hanging, with each toe tip on the ground; left joints are on +Y and every right joint mirrors
+//! hanging, with each toe tip on the ground and the top of the head about 1.75 m up; left joints are on +Y and every right joint mirrors
 //! its left partner (Y negated), so [`mirror_pairs`](super::clip::mirror_pairs) pairs them by name.
 //!
 //! A joint's local rotation is the product of rotations about its channel axes in channel order
@@ -27,8 +28,11 @@ use super::skeleton::{Channel, Joint, Skeleton};
 pub const HIPS: &str = "Hips";
 /// The waist, above the pelvis. Channels Y (bend forward) and Z (twist) rotation.
 pub const CHEST: &str = "Chest";
-/// The base of the neck; no channels. Its end site is the top of the head.
+/// The base of the neck (seventh cervical vertebra); no channels.
 pub const NECK: &str = "Neck";
+/// The base of the skull, at the top of the neck; no channels. Its end site is the top of the
+/// head.
+pub const HEAD: &str = "Head";
 /// Left shoulder. Channels Y (flex), X (abduction), Z (twist) rotation.
 pub const LEFT_ARM: &str = "LeftArm";
 /// Left elbow. Channel Y rotation. Its end site is the hand.
@@ -62,12 +66,22 @@ pub const SHIN_M: f64 = 0.43;
 pub const ANKLE_HEIGHT_M: f64 = PELVIS_HEIGHT_M - THIGH_M - SHIN_M;
 /// Forward distance from the ankle joint to the toe tip, metres.
 pub const FOOT_FORWARD_M: f64 = 0.19;
+/// Backward distance from the ankle joint to the heel point on the sole (straight under the
+/// back of the heel), metres.
+pub const HEEL_BACK_M: f64 = 0.05;
+/// The heel point (on the sole, straight under the back of the heel) relative to the ankle joint
+/// in the foot's bind frame, metres.
+pub const HEEL_POINT: DVec3 = DVec3::new(-HEEL_BACK_M, 0.0, -ANKLE_HEIGHT_M);
+/// The toe tip (the foot's end site) relative to the ankle joint in the foot's bind frame, metres.
+pub const TOE_POINT: DVec3 = DVec3::new(FOOT_FORWARD_M, 0.0, -ANKLE_HEIGHT_M);
 /// Pelvis to waist joint, metres.
 pub const WAIST_M: f64 = 0.12;
 /// Waist joint to the base of the neck, metres.
 pub const SPINE_M: f64 = 0.43;
-/// Base of the neck to the top of the head, metres.
-pub const HEAD_M: f64 = 0.25;
+/// Base of the neck to the base of the skull, metres.
+pub const NECK_M: f64 = 0.10;
+/// Base of the skull to the top of the head, metres.
+pub const HEAD_M: f64 = 0.15;
 /// Height of the shoulders above the waist joint, metres.
 pub const SHOULDER_RISE_M: f64 = 0.38;
 /// Lateral distance of each shoulder from the spine, metres.
@@ -85,7 +99,7 @@ fn joint(name: &str, parent: usize, offset: DVec3, channels: &[Channel], end_sit
 }
 
 /// The built-in 22-DOF actor of seed 002 Fig. 1, an adult about 1.75 m tall, in the Z-up frame
-/// (X forward, Y left). Joint order, parents first: `Hips`, `Chest`, `Neck`, `LeftArm`,
+/// (X forward, Y left). Joint order, parents first: `Hips`, `Chest`, `Neck`, `Head`, `LeftArm`,
 /// `LeftForeArm`, `RightArm`, `RightForeArm`, `LeftUpLeg`, `LeftLeg`, `LeftFoot`, `RightUpLeg`,
 /// `RightLeg`, `RightFoot`.
 pub fn actor() -> Skeleton {
@@ -98,7 +112,8 @@ pub fn actor() -> Skeleton {
         end_site: None,
     }];
     joints.push(joint(CHEST, 0, DVec3::new(0.0, 0.0, WAIST_M), &[YRotation, ZRotation], None));
-    joints.push(joint(NECK, 1, DVec3::new(0.0, 0.0, SPINE_M), &[], Some(DVec3::new(0.0, 0.0, HEAD_M))));
+    joints.push(joint(NECK, 1, DVec3::new(0.0, 0.0, SPINE_M), &[], None));
+    joints.push(joint(HEAD, 2, DVec3::new(0.0, 0.0, NECK_M), &[], Some(DVec3::new(0.0, 0.0, HEAD_M))));
     for (arm, fore_arm, side) in [(LEFT_ARM, LEFT_FORE_ARM, 1.0), (RIGHT_ARM, RIGHT_FORE_ARM, -1.0)] {
         let shoulder = joints.len();
         joints.push(joint(
@@ -122,13 +137,7 @@ pub fn actor() -> Skeleton {
         let hip = joints.len();
         joints.push(joint(up_leg, 0, DVec3::new(0.0, side * HIP_HALF_WIDTH_M, 0.0), &[YRotation, XRotation], None));
         joints.push(joint(leg, hip, DVec3::new(0.0, 0.0, -THIGH_M), &[YRotation], None));
-        joints.push(joint(
-            foot,
-            hip + 1,
-            DVec3::new(0.0, 0.0, -SHIN_M),
-            &[YRotation],
-            Some(DVec3::new(FOOT_FORWARD_M, 0.0, -ANKLE_HEIGHT_M)),
-        ));
+        joints.push(joint(foot, hip + 1, DVec3::new(0.0, 0.0, -SHIN_M), &[YRotation], Some(TOE_POINT)));
     }
     Skeleton::new(joints).expect("the built-in actor is a valid skeleton")
 }
@@ -171,8 +180,10 @@ mod tests {
             assert!((at(up_leg).y - side * 0.09).abs() < 1e-12);
         }
         assert!((at(LEFT_LEG).z - (hips.z - 0.45)).abs() < 1e-12);
-        let head = s.tip(&g, s.find(NECK).unwrap());
-        assert!((1.65..1.85).contains(&head.z), "head top at {}", head.z);
+        let head = s.tip(&g, s.find(HEAD).unwrap());
+        assert!((1.70..1.80).contains(&head.z), "head top at {}", head.z);
+        assert!((at(HEAD).z - at(NECK).z - 0.1).abs() < 1e-12, "a 10 cm neck");
+        assert_eq!(s.joints()[s.find(HEAD).unwrap()].parent, s.find(NECK));
         assert!(g.iter().all(|(p, _)| p.z >= 0.0));
     }
 

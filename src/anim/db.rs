@@ -13,9 +13,9 @@
 //! the ground in every frame (for foot locking and honest skating figures), which intervals end
 //! at rest or stay in place, and the left–right mirror of every interval. Candidate lists are
 //! built mirror-symmetric (the candidates of an interval's mirror are the mirrors of its
-//! candidates, in the same order), and every interval can reach a stop and a turn on the spot
-//! in one switch: where the K pose neighbours lack them, the nearest such intervals are added,
-//! weighted by Eq. 3 like any candidate.
+//! candidates, in the same order), and every interval can reach a stop, a turn on the spot to
+//! either side and a way to get going in one switch: where the K pose neighbours lack them,
+//! the nearest such intervals are added, weighted by Eq. 3 like any candidate.
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -118,11 +118,14 @@ pub struct ContactParams {
     /// Names of the two foot joints (left, right); when empty, found by name
     /// (`LeftFoot`/`RightFoot`, `LeftAnkle`/`RightAnkle`, `l_foot`/`r_foot` …).
     pub feet: Vec<String>,
+    /// The heel and toe of the left foot in its joint's frame, metres (the right foot's are
+    /// their mirror images); when `None`, found from the skeleton ([`contact_points`]).
+    pub points: Option<[DVec3; 2]>,
 }
 
 impl Default for ContactParams {
     fn default() -> Self {
-        ContactParams { height_m: 0.05, speed_mps: 0.5, min_frames: 3, feet: Vec::new() }
+        ContactParams { height_m: 0.05, speed_mps: 0.5, min_frames: 3, feet: Vec::new(), points: None }
     }
 }
 
@@ -136,9 +139,14 @@ pub const REST_WINDOW_S: f64 = 0.15;
 pub const SPOT_TURN_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
 /// Largest spacing of the root-path points kept for clearance checks, metres.
 pub const SWEEP_SPACING_M: f64 = 0.1;
+/// Largest distance of the root path from the chord between two kept points, metres.
+pub const SWEEP_DEVIATION_M: f64 = 0.002;
 /// Largest Eq. 2 distance between an interval's mirror image and another interval for the two
 /// to count as mirrors.
 pub const MIRROR_TOLERANCE: f64 = 1e-4;
+
+/// Eq. 2 distance below which a mirror image is exact (a clip mirrored frame by frame).
+const EXACT_MIRROR: f64 = 1e-9;
 
 /// What an interval does, as far as stopping and turning are concerned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -152,6 +160,8 @@ pub struct IntervalKind {
     pub spot_turn: i8,
     /// Comes to rest within two intervals: ends at rest, or its natural successor does.
     pub stops: bool,
+    /// Gets going: the root moves at least [`IN_PLACE_M`] from where it started.
+    pub goes: bool,
 }
 
 impl IntervalKind {
@@ -537,7 +547,13 @@ impl Database {
         }
         let feet = find_feet(&skeleton, &params.contacts.feet)?;
         let forward = forward_offset(&skeleton, feet);
-        let points = contact_points(&skeleton, feet);
+        let points = match params.contacts.points {
+            Some([heel, toe]) => {
+                let mirror = |v: DVec3| DVec3::new(v.x, -v.y, v.z);
+                [[heel, toe], [mirror(heel), mirror(toe)]]
+            }
+            None => contact_points(&skeleton, feet),
+        };
         let contacts: Vec<Vec<u8>> =
             clips.iter().map(|c| detect_contacts(&skeleton, c, feet, &points, &params.contacts)).collect();
         let mut spans: Vec<(usize, usize, usize, u8)> = Vec::new();
@@ -551,7 +567,15 @@ impl Database {
                     if s.end <= s.start || s.end >= clips[ci].frames.len() {
                         return Err(DbError::BadInterval(k + 1, s.clip.clone(), s.start, s.end));
                     }
-                    spans.push((ci, s.start, s.end, 2));
+                    // The foot that touches down at the start, if one does.
+                    let feet_down = foot_contacts(&contacts[ci]);
+                    let touch = |f: usize| feet_down[f][s.start] && (s.start == 0 || !feet_down[f][s.start - 1]);
+                    let foot = match (touch(0), touch(1)) {
+                        (true, false) => 0,
+                        (false, true) => 1,
+                        _ => 2,
+                    };
+                    spans.push((ci, s.start, s.end, foot));
                 }
             }
             None => {
@@ -594,12 +618,28 @@ impl Database {
             let duration = (e - s) as f64 * c.frame_time;
             let at = |f: usize| DVec2::new(track[f].x, track[f].y);
             let path: f64 = (s..e).map(|f| at(f).distance(at(f + 1))).sum();
+            // Keep a frame when going on to the next would stretch the chord from the last kept
+            // point beyond the spacing, or let the path between them stray from that chord by
+            // more than [`SWEEP_DEVIATION_M`] (loops of turning on the spot).
             let mut sweep = Vec::new();
-            let mut last = at(s);
+            let mut last = s;
             for f in s + 1..=e {
-                if f == e || at(f + 1).distance(last) > SWEEP_SPACING_M {
+                let stray = |to: usize| {
+                    let (a, b) = (at(last), at(to));
+                    (last + 1..to).any(|k| {
+                        let p = at(k);
+                        let ab = b - a;
+                        let t = if ab.length_squared() > 0.0 {
+                            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        };
+                        p.distance(a + ab * t) > SWEEP_DEVIATION_M
+                    })
+                };
+                if f == e || at(f + 1).distance(at(last)) > SWEEP_SPACING_M || stray(f + 1) {
                     sweep.push(f);
-                    last = at(f);
+                    last = f;
                 }
             }
             sweep_frames.push(sweep);
@@ -706,12 +746,24 @@ impl Database {
         let in_place = far < IN_PLACE_M;
         let spot_turn = if in_place && iv.turn().abs() >= SPOT_TURN_RAD { iv.turn().signum() as i8 } else { 0 };
         let ends_at_rest = rest(i);
-        IntervalKind { ends_at_rest, in_place, spot_turn, stops: ends_at_rest || rest(self.successor[i]) }
+        let moving = |j: usize| {
+            let jv = &self.intervals[j];
+            let t = &self.tracks[jv.clip];
+            (t[jv.end].x - t[jv.start].x).hypot(t[jv.end].y - t[jv.start].y) >= IN_PLACE_M
+        };
+        IntervalKind {
+            ends_at_rest,
+            in_place,
+            spot_turn,
+            stops: ends_at_rest || rest(self.successor[i]),
+            goes: moving(i),
+        }
     }
 
     /// The mirror of every interval: the interval whose samples equal its mirrored samples within
-    /// [`MIRROR_TOLERANCE`] — itself if it is symmetric, else preferably the one at the same place
-    /// in a clip of the same length — kept only where the pairing is mutual.
+    /// [`MIRROR_TOLERANCE`] — itself if it is symmetric, else preferably an exact mirror image,
+    /// the one at the same place in the clip's mirror clip — kept only where the pairing is
+    /// mutual.
     fn find_mirrors(&self) -> Vec<Option<usize>> {
         let pairs = super::clip::mirror_pairs(&self.skeleton);
         let (w, wr) = (&self.joint_weights, self.params.weights.root_position);
@@ -720,24 +772,43 @@ impl Database {
             let iv = &self.intervals[i];
             self.intervals[..i].iter().filter(|x| x.clip == iv.clip).count()
         };
+        // Mirror clips: the same length, and the mirror image of one's frames (relative to its
+        // first frame's ground) is the other's, at the start, the middle and the end.
+        let relative = |c: usize, f: usize| {
+            let mut p = self.clips[c].frames[f].clone();
+            Ground::of(&self.clips[c].frames[0], self.forward_offset).transform_pose(&mut p, true);
+            p
+        };
+        let mirror_clip: Vec<Option<usize>> = (0..self.clips.len())
+            .map(|c| {
+                let n = self.clips[c].frames.len();
+                (0..self.clips.len()).find(|&d| {
+                    d != c
+                        && self.clips[d].frames.len() == n
+                        && [0, n / 2, n - 1].iter().all(|&f| {
+                            self.pose_distance(&relative(c, f).mirrored(&pairs), &relative(d, f)) < EXACT_MIRROR
+                        })
+                })
+            })
+            .collect();
         let found: Vec<Option<usize>> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let mirrored: Vec<Pose> = self.samples[i].iter().map(|p| p.mirrored(&pairs)).collect();
                 let iv = &self.intervals[i];
-                let mut matches: Vec<usize> = (0..n)
-                    .filter(|&j| {
-                        interval_distance(w, wr, &mirrored, &self.samples[j], MIRROR_TOLERANCE) < MIRROR_TOLERANCE
-                    })
+                let mut matches: Vec<(usize, f64)> = (0..n)
+                    .map(|j| (j, interval_distance(w, wr, &mirrored, &self.samples[j], MIRROR_TOLERANCE)))
+                    .filter(|&(_, d)| d < MIRROR_TOLERANCE)
                     .collect();
-                let rank = |j: usize| {
+                // Itself first, then exact mirrors (a clip and its mirror image) before near
+                // copies, then the interval at the same place in a clip of the same length.
+                let rank = |&(j, d): &(usize, f64)| {
                     let jv = &self.intervals[j];
-                    let twin = self.clips[jv.clip].frames.len() == self.clips[iv.clip].frames.len()
-                        && position(j) == position(i);
-                    (j != i, !twin, j)
+                    let twin = mirror_clip[iv.clip] == Some(jv.clip) && position(j) == position(i);
+                    (j != i, d > EXACT_MIRROR, !twin, j)
                 };
-                matches.sort_by_key(|&j| rank(j));
-                matches.first().copied()
+                matches.sort_by_key(rank);
+                matches.first().map(|m| m.0)
             })
             .collect();
         (0..n).map(|i| found[i].filter(|&j| found[j] == Some(i))).collect()
@@ -776,8 +847,9 @@ impl Database {
     }
 
     /// The candidates after every interval: its successor, the successor's neighbours, and —
-    /// where none of those stops or turns on the spot to one side — the interval nearest to the
-    /// successor (Eq. 2) that does, with the mirror of anything added to a symmetric interval.
+    /// where none of those stops, turns on the spot to one side, or gets going — the interval
+    /// nearest to the successor (Eq. 2) that does, with the mirror of anything added to a
+    /// symmetric interval.
     /// Mirror pairs get mirrored lists in the same order.
     fn build_candidates(&self) -> Vec<Vec<Candidate>> {
         let n = self.intervals.len();
@@ -795,8 +867,8 @@ impl Database {
             let s = self.successor[i];
             let mut c = vec![(s, 0.0)];
             c.extend(self.neighbours[s].iter().copied());
-            let wants: [&dyn Fn(&IntervalKind) -> bool; 3] =
-                [&|k| k.stops || k.in_place, &|k| k.spot_turn > 0, &|k| k.spot_turn < 0];
+            let wants: [&dyn Fn(&IntervalKind) -> bool; 4] =
+                [&|k| k.stops || k.in_place, &|k| k.spot_turn > 0, &|k| k.spot_turn < 0, &|k| k.goes];
             for want in wants {
                 if !c.iter().any(|&(j, _)| want(&self.kinds[j]))
                     && let Some((j, d)) = nearest_where(s, want)
@@ -972,22 +1044,10 @@ impl Database {
         c[i]
     }
 
-    /// Appends to `out` the world path of interval `i`'s root played with its start at `from`
-    /// (no blend): `from` itself, then the positions at its sweep frames.
-    pub fn interval_path(&self, i: usize, from: Ground, out: &mut Vec<DVec2>) {
-        let iv = &self.intervals[i];
-        let track = &self.tracks[iv.clip];
-        let start = track[iv.start];
-        out.push(DVec2::new(from.x, from.y));
-        for &f in &self.sweep_frames[i] {
-            let g = from.then(start.to_local(track[f]));
-            out.push(DVec2::new(g.x, g.y));
-        }
-    }
-
     /// Clip frames of interval `i` after its start whose root positions are at most
-    /// [`SWEEP_SPACING_M`] apart, ending with its last frame: the points a clearance check of
-    /// its root path visits.
+    /// [`SWEEP_SPACING_M`] apart, with the path between two of them within
+    /// [`SWEEP_DEVIATION_M`] of the segment joining them, ending with its last frame: the points
+    /// a clearance check of its root path visits.
     pub fn sweep_frames(&self, i: usize) -> &[usize] {
         &self.sweep_frames[i]
     }

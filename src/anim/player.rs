@@ -280,15 +280,6 @@ impl RootMotion {
             }
         }
     }
-
-    /// The world reference at the end of the interval playing.
-    fn end(mut self, db: &Database, h: f64) -> Ground {
-        let iv = &db.intervals[self.interval];
-        while self.source.is_some() && self.frame < iv.end as f64 - 1e-9 {
-            self.advance_by(db, h);
-        }
-        self.world.then(self.clip_ground.to_local(db.ground(iv.clip, iv.end as f64)))
-    }
 }
 
 /// A switch point: the interval ending, the character's ground reference there, and the root
@@ -322,9 +313,16 @@ impl SwitchPoint {
         self.started(db, choice).path(db, self.h, out);
     }
 
-    /// The world ground reference at the end of candidate `choice` started here.
-    pub fn end_of(&self, db: &Database, choice: usize) -> Ground {
-        self.started(db, choice).end(db, self.h)
+    /// The switch point at the end of candidate `choice` started here: where the next choice
+    /// after it would be made, with any blend still running.
+    pub fn then(&self, db: &Database, choice: usize) -> SwitchPoint {
+        let mut root = self.started(db, choice);
+        let iv = &db.intervals[root.interval];
+        let ft = db.clips[iv.clip].frame_time;
+        while root.frame < iv.end as f64 - 1e-9 {
+            root.advance_by(db, self.h.min((iv.end as f64 - root.frame) * ft));
+        }
+        SwitchPoint { ending: root.interval, ground: root.world, early: false, root, blend_s: self.blend_s, h: self.h }
     }
 }
 
@@ -464,11 +462,6 @@ impl Player {
     /// [`SwitchPoint::path`]).
     pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
         self.root.path(db, 1.0 / self.params.frame_rate, out);
-    }
-
-    /// The world ground reference at the end of the interval playing.
-    pub fn interval_end(&self, db: &Database) -> Ground {
-        self.root.end(db, 1.0 / self.params.frame_rate)
     }
 
     /// The switch point an early switch made now would start from.

@@ -114,10 +114,13 @@ pub struct LearnParams {
     pub episode_length: usize,
     /// Probability per interval that the commanded task changes (0.15).
     pub task_change: f64,
-    /// Speed error scale of `T`, m/s (1.5).
+    /// Velocity error scale of `T`, m/s (1.5).
     pub speed_tolerance: f64,
     /// Direction error scale of `T`, radians (π).
     pub direction_tolerance: f64,
+    /// Share of `T` that scores the direction error alone; the rest scores the velocity error
+    /// (0.3).
+    pub heading_weight: f64,
     /// Top commanded speed of the planner, m/s (1.5).
     pub planner_speed: f64,
     /// Top commanded turn rate of the planner, rad/s (2.09, 120°/s).
@@ -150,6 +153,7 @@ impl Default for LearnParams {
             task_change: 0.15,
             speed_tolerance: 1.5,
             direction_tolerance: std::f64::consts::PI,
+            heading_weight: 0.3,
             planner_speed: 1.5,
             planner_turn: 120f64.to_radians(),
             wide_tasks: 0.25,
@@ -186,11 +190,19 @@ pub fn transition(db: &Database, a: usize, direction: f64, task: Task) -> Errors
     }
 }
 
-/// How well errors meet the command, `T` in `[0, 1]`: 1 with no error, falling linearly in
-/// each error (half for speed, half for direction) to 0 at the scale of that error.
-pub fn task_score(e: Errors, p: &LearnParams) -> f64 {
-    1.0 - 0.5 * (e.speed.abs() / p.speed_tolerance).min(1.0)
-        - 0.5 * (e.direction.abs() / p.direction_tolerance).min(1.0)
+/// How well the motion after an interval meets the command, `T` in `[0, 1]`: 1 with no error.
+/// The commanded velocity (speed `speed + e.speed` along the desired heading) is compared with
+/// the velocity of the interval played (its speed `speed` along the heading, `e.direction`
+/// away): their difference, over [`LearnParams::speed_tolerance`], takes
+/// `1 − heading_weight` of the score, so that walking briskly the wrong way scores worse than
+/// turning first; the direction error alone, over [`LearnParams::direction_tolerance`], takes
+/// the rest, so that turning on the spot still counts when the command is to stand and turn.
+pub fn task_score(e: Errors, speed: f64, p: &LearnParams) -> f64 {
+    let wanted = (speed + e.speed).max(0.0);
+    let (s, c) = e.direction.sin_cos();
+    let velocity = (wanted - speed * c).hypot(speed * s);
+    1.0 - (1.0 - p.heading_weight) * (velocity / p.speed_tolerance).min(1.0)
+        - p.heading_weight * (e.direction.abs() / p.direction_tolerance).min(1.0)
 }
 
 /// The reward of Eq. 4 for taking candidate `a` after interval `i` with direction error
@@ -198,7 +210,7 @@ pub fn task_score(e: Errors, p: &LearnParams) -> f64 {
 pub fn reward(db: &Database, p: &LearnParams, i: usize, a: usize, direction: f64, task: Task) -> (f64, Errors) {
     let c = &db.candidates[i][a];
     let next = transition(db, c.interval, direction, task);
-    (p.alpha * c.weight + p.beta * task_score(next, p), next)
+    (p.alpha * c.weight + p.beta * task_score(next, db.intervals[c.interval].speed, p), next)
 }
 
 /// How the next interval is picked at a switch point.
@@ -261,7 +273,7 @@ pub enum PolicyError {
 }
 
 /// File format version written by [`Policy::to_bytes`].
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 const MAGIC: &[u8; 8] = b"STRDRPOL";
 
 /// How the sampled states of a database map onto stored values: a state and its mirror share
@@ -727,6 +739,7 @@ impl Policy {
             p.planner_speed,
             p.planner_turn,
             p.wide_tasks,
+            p.heading_weight,
         ] {
             b.extend_from_slice(&v.to_le_bytes());
         }
@@ -777,7 +790,7 @@ impl Policy {
         {
             return Err(PolicyError::Malformed("state grid"));
         }
-        let mut v = [0.0; 11];
+        let mut v = [0.0; 12];
         for x in &mut v {
             *x = r.f64()?;
         }
@@ -797,6 +810,7 @@ impl Policy {
             planner_speed: v[8],
             planner_turn: v[9],
             wide_tasks: v[10],
+            heading_weight: v[11],
             episode_length,
         };
         let expected = db.fingerprint();

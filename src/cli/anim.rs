@@ -43,6 +43,8 @@ pub enum DbCommand {
         #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
         transition: TransitionArg,
     },
+    /// Draw a side-view strip of a clip's frames as a PNG.
+    Strip(super::db_strip::StripArgs),
     /// Write the built-in generated clips as a database directory of BVH files.
     Export {
         /// Output directory.
@@ -158,8 +160,7 @@ const FORMAT: &str = "strider-animation-db";
 
 /// The built-in database: the 22-DOF actor's generated clips, intervals detected.
 pub fn builtin_database() -> Result<Database, Failure> {
-    Database::build(crate::anim::procedural::default_clips(), crate::anim::actor::actor(), DbParams::default(), None)
-        .map_err(|e| anyhow!("built-in animation database: {e}").into())
+    crate::anim::procedural::default_database().map_err(|e| anyhow!("built-in animation database: {e}").into())
 }
 
 /// The policy shipped for the built-in database.
@@ -346,6 +347,7 @@ pub fn db(command: DbCommand) -> Outcome {
             );
             Ok(())
         }
+        DbCommand::Strip(a) => super::db_strip::run(a),
         DbCommand::Export { out } => {
             let db = builtin_database()?;
             save_database(&db, &out)?;

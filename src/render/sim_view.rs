@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 
-use super::poses::StripPose;
+use super::poses::{StripPose, strip_pose};
 use super::scene::{AgentView, Scene};
 use crate::sim::{AnimatedBody, Body, Simulation};
 
@@ -41,32 +41,11 @@ pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
     Scene { world: &sim.world, agents, goals, view: None, caption }
 }
 
-/// The animated character's current pose for the side-view strip, in its ground frame.
+/// The animated character's current pose for the side-view strip, in its ground frame, with
+/// its head and feet outlined.
 pub fn strip_pose_of(body: &AnimatedBody, caption: String) -> StripPose {
     let db = &body.animation().db;
     let mut pose = body.player().pose().clone();
     body.player().ground().transform_pose(&mut pose, true);
-    let mut globals = Vec::new();
-    db.skeleton.globals(&pose, &mut globals);
-    let joints = db.skeleton.joints();
-    let side = |name: &str| -> i8 {
-        let n = name.to_ascii_lowercase();
-        if n.contains("left") || name.starts_with('L') && name.chars().nth(1).is_some_and(char::is_uppercase) {
-            1
-        } else if n.contains("right") || name.starts_with('R') && name.chars().nth(1).is_some_and(char::is_uppercase) {
-            -1
-        } else {
-            0
-        }
-    };
-    StripPose {
-        joints: globals.iter().map(|g| g.0).collect(),
-        tips: (0..joints.len())
-            .filter(|&i| joints[i].end_site.is_some())
-            .map(|i| (i, db.skeleton.tip(&globals, i)))
-            .collect(),
-        parents: joints.iter().map(|j| j.parent).collect(),
-        sides: joints.iter().map(|j| side(&j.name)).collect(),
-        caption,
-    }
+    strip_pose(&db.skeleton, &pose, &db.feet, caption)
 }

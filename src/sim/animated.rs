@@ -1,14 +1,16 @@
 //! The animated body (seed 000 §3.2; DESIGN.md §3): the navigation loop drives the character
 //! through the animation database. The fuzzy planner's turn rate and speed become the RL
 //! controller's task: a desired heading — where the commanded turn rate would bring the heading
-//! within [`HEADING_HORIZON_S`], re-aimed at every step, since the planner closes the loop — and
-//! a desired speed. At every switch point the candidates are ranked (by the trained policy from
+//! within [`HEADING_HORIZON_S`], but not past the direction the planner steers toward
+//! ([`Command::toward`]), re-aimed at every step, since the planner closes the loop — and a
+//! desired speed. At every switch point the candidates are ranked (by the trained policy from
 //! the state: interval now ending, speed error, direction error; or by a baseline
 //! [`Strategy`]) and the character **looks before it steps**: a candidate is taken only if the
 //! root path it would play ([`SwitchPoint::path`], the cross-fade included), swept by the body's
-//! disc with a clearance margin, stays clear, and if from its end a stop or a turn on the spot
-//! is clear too, so the character can always stop in time. A character with nothing clear ahead
-//! stops or turns on the spot the way a person does — it never pushes into a wall.
+//! disc with a clearance margin, stays clear, and — unless it stays in place — if from its end
+//! a turn on the spot is clear too, so the character never walks where it could not turn round.
+//! A character with nothing clear ahead stops or turns on the spot the way a person does — it
+//! never pushes into a wall.
 //!
 //! In a world where things move (other agents), the rest of the interval playing is checked at
 //! every step; when something unexpected blocks it, the character switches early with a short
@@ -62,7 +64,7 @@ impl Animation {
     pub fn new(db: Database, policy: Policy) -> Animation {
         let top = db.max_speed() + TURN_BAND_MPS;
         let steps = (top / TURN_TABLE_STEP).ceil() as usize + 1;
-        let turn_ability = (0..steps)
+        let mut turn_ability: Vec<f64> = (0..steps)
             .map(|k| {
                 let v = k as f64 * TURN_TABLE_STEP;
                 db.intervals
@@ -76,6 +78,27 @@ impl Animation {
                     .fold(0.0, f64::max)
             })
             .collect();
+        // Speeds no interval comes near take the nearest speeds' ability (the larger).
+        let known: Vec<usize> = (0..steps).filter(|&k| turn_ability[k] > 0.0).collect();
+        for k in 0..steps {
+            if turn_ability[k] == 0.0 {
+                let below = known.iter().rev().find(|&&j| j < k).map(|&j| (k - j, turn_ability[j]));
+                let above = known.iter().find(|&&j| j > k).map(|&j| (j - k, turn_ability[j]));
+                turn_ability[k] = match (below, above) {
+                    (Some(b), Some(a)) if b.0 == a.0 => b.1.max(a.1),
+                    (Some(b), Some(a)) => {
+                        if b.0 < a.0 {
+                            b.1
+                        } else {
+                            a.1
+                        }
+                    }
+                    (Some(b), None) => b.1,
+                    (None, Some(a)) => a.1,
+                    (None, None) => 0.0,
+                };
+            }
+        }
         Animation {
             db,
             policy,
@@ -100,7 +123,7 @@ impl Animation {
 
     /// The largest turn rate the character can follow at `speed`, radians per second: the
     /// fastest turn among the intervals within 0.25 m/s of it (turns on the spot count as
-    /// speed 0).
+    /// speed 0; speeds no interval comes near take their nearest neighbours').
     pub fn turn_limit(&self, speed: f64) -> f64 {
         let k = if speed.is_finite() { (speed.max(0.0) / TURN_TABLE_STEP).round() as usize } else { 0 };
         self.turn_ability[k.min(self.turn_ability.len() - 1)]
@@ -182,9 +205,9 @@ struct LookAhead<'a> {
 /// Allowance added to every clearance check of a sampled root path for the curve between its
 /// points, metres.
 const PATH_ALLOWANCE_M: f64 = 0.005;
-/// Clearance a turn on the spot or a stop may give up when the character already stands closer
-/// than the margin, metres.
-const IN_PLACE_SLACK_M: f64 = 0.01;
+/// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
+/// shifts over the feet).
+const IN_PLACE_SLACK_M: f64 = 0.02;
 
 impl LookAhead<'_> {
     /// The clearances paths from `from` must keep (before [`PATH_ALLOWANCE_M`]), for moving
@@ -208,32 +231,45 @@ impl LookAhead<'_> {
         }
     }
 
-    /// Candidate `a` at `at` may be taken: its path keeps the clearance, and so does a stop or
-    /// a turn on the spot after it (unless it is one).
+    /// Candidate `a` at `at` may be taken: its path keeps the clearance, and — unless it stays
+    /// in place — a turn on the spot after it does too, so the character never walks where it
+    /// could not turn round.
     fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> bool {
         let next = db.candidates[at.ending][a].interval;
-        let brake = db.kinds[next].is_brake();
+        let in_place = db.kinds[next].in_place;
         self.path.clear();
         at.path(db, a, self.path);
-        if !self.clear(if brake { needs.1 } else { needs.0 }) {
+        if !self.clear(if in_place { needs.1 } else { needs.0 }) {
             return false;
         }
-        if brake {
+        if in_place {
             return true;
         }
-        let end = at.end_of(db, a);
+        let then = at.then(db, a);
         for b in 0..db.candidates[next].len() {
-            let after = db.candidates[next][b].interval;
-            if !db.kinds[after].is_brake() {
+            if db.kinds[db.candidates[next][b].interval].spot_turn == 0 {
                 continue;
             }
             self.path.clear();
-            db.interval_path(after, end, self.path);
+            then.path(db, b, self.path);
             if self.clear(needs.1) {
                 return true;
             }
         }
         false
+    }
+
+    /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
+    /// clear).
+    fn path_clearance(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> f64 {
+        self.path.clear();
+        at.path(db, a, self.path);
+        let far = self.radius + 1.0;
+        match self.path.as_slice() {
+            [] => far,
+            [p] => self.space.clearance(*p, far),
+            pts => pts.windows(2).map(|w| self.space.segment_clearance(w[0], w[1], far)).fold(far, f64::min),
+        }
     }
 }
 
@@ -243,11 +279,13 @@ impl Chooser for LookAhead<'_> {
             speed: self.command.speed - db.intervals[at.ending].speed,
             direction: wrap_angle(self.desired - at.ground.yaw),
         };
-        let task = Task { turn_rate: self.command.turn_rate, speed: self.command.speed };
+        // The desired heading already holds the commanded turn (re-aimed at every step): the
+        // task is to reach that heading at the commanded speed.
+        let task = Task { turn_rate: 0.0, speed: self.command.speed };
         let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
         ranker.rank(db, at.ending, errors, task, self.rng, self.order);
         let needs = self.needs(DVec2::new(at.ground.x, at.ground.y));
-        let mut refused_moving = false;
+        let mut refused = false;
         let order = std::mem::take(self.order);
         let mut pick = None;
         for &a in &order {
@@ -255,24 +293,19 @@ impl Chooser for LookAhead<'_> {
                 pick = Some(a);
                 break;
             }
-            refused_moving |= !db.kinds[db.candidates[at.ending][a].interval].is_brake();
+            refused = true;
         }
         *self.order = order;
         let cands = &db.candidates[at.ending];
         let a = pick.unwrap_or_else(|| {
-            // Nothing is clear: the candidate that moves least (standing or turning on the
-            // spot); the last-resort guard keeps the root out of anything.
-            (0..cands.len())
-                .min_by(|&x, &y| {
-                    let m = |a: usize| {
-                        let iv = &db.intervals[cands[a].interval];
-                        iv.motion.x.hypot(iv.motion.y)
-                    };
-                    m(x).total_cmp(&m(y)).then(x.cmp(&y))
-                })
-                .unwrap_or(0)
+            // Nothing keeps the margin: the candidate whose path keeps the most room (the
+            // last-resort guard keeps the root out of anything).
+            let room: Vec<f64> = (0..cands.len()).map(|a| self.path_clearance(db, at, a)).collect();
+            (0..cands.len()).max_by(|&x, &y| room[x].total_cmp(&room[y]).then(y.cmp(&x))).unwrap_or(0)
         });
-        self.held = (refused_moving || pick.is_none()) && db.kinds[cands[a].interval].is_brake();
+        // Held: something the character wanted was not clear, and it stands or turns on the
+        // spot instead.
+        self.held = refused && db.kinds[cands[a].interval].in_place;
         a
     }
 }
@@ -409,9 +442,19 @@ impl Body for AnimatedBody {
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
         let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
         let speed = if command.speed.is_finite() { command.speed.max(0.0) } else { 0.0 };
-        self.command = Command { turn_rate: turn, speed };
+        let toward = command.toward.filter(|t| t.is_finite());
+        self.command = Command { turn_rate: turn, speed, toward };
         let before = self.player.ground();
-        self.desired_heading = before.yaw + (turn * HEADING_HORIZON_S).clamp(-MAX_DIRECTION_ERROR, MAX_DIRECTION_ERROR);
+        // Where the turn leads within the horizon, but not past the direction the planner
+        // steers toward.
+        let mut ahead = (turn * HEADING_HORIZON_S).clamp(-MAX_DIRECTION_ERROR, MAX_DIRECTION_ERROR);
+        if let Some(t) = toward {
+            let rel = wrap_angle(t - before.yaw);
+            if rel * ahead > 0.0 && ahead.abs() > rel.abs() {
+                ahead = rel;
+            }
+        }
+        self.desired_heading = before.yaw + ahead;
         if space.changes() {
             self.early_switch(space);
         }
@@ -510,12 +553,12 @@ pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64)
     let settle = |speed: f64, k: usize, time: &mut f64| {
         let mut b = AnimatedBody::new(anim.clone(), start, 0.3);
         for _ in 0..(4.0 / DT) as usize {
-            b.step(Command { turn_rate: 0.0, speed }, DT, &mut OpenSpace);
+            b.step(Command { turn_rate: 0.0, speed, toward: None }, DT, &mut OpenSpace);
         }
         let stride = 2.0 * anim.db.intervals[b.player.interval()].duration;
         let frames = (k as f64 * stride * b.player.params.frame_rate / PHASES as f64).round() as usize;
         for _ in 0..frames {
-            b.step(Command { turn_rate: 0.0, speed }, 1.0 / b.player.params.frame_rate, &mut OpenSpace);
+            b.step(Command { turn_rate: 0.0, speed, toward: None }, 1.0 / b.player.params.frame_rate, &mut OpenSpace);
         }
         *time += 4.0 + frames as f64 / b.player.params.frame_rate;
         b
@@ -531,7 +574,7 @@ pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64)
             let mut t = 0.0;
             while wrap_angle(target - b.player.ground().yaw).abs() > 10f64.to_radians() && t < CAP_S {
                 let turn_rate = wrap_angle(target - b.player.ground().yaw) / HEADING_HORIZON_S;
-                b.step(Command { turn_rate, speed: walk_speed }, DT, &mut OpenSpace);
+                b.step(Command { turn_rate, speed: walk_speed, toward: None }, DT, &mut OpenSpace);
                 t += DT;
             }
             sim_time += t;
@@ -545,7 +588,7 @@ pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64)
             let mut recent: Vec<f64> = Vec::new();
             let mut t = 0.0;
             loop {
-                let out = b.step(Command { turn_rate: 0.0, speed: to }, DT, &mut OpenSpace);
+                let out = b.step(Command { turn_rate: 0.0, speed: to, toward: None }, DT, &mut OpenSpace);
                 t += DT;
                 recent.push(out.moved_m);
                 if recent.len() > window {
@@ -571,6 +614,7 @@ pub fn measure_tracking(anim: &Arc<Animation>, walk_speed: f64, slow_speed: f64)
             command = Command {
                 turn_rate: crate::rng::uniform(&mut rng, -0.8, 0.8),
                 speed: crate::rng::uniform(&mut rng, slow_speed, walk_speed),
+                toward: None,
             };
         }
         b.step(command, DT, &mut OpenSpace);

@@ -21,6 +21,10 @@ pub struct Command {
     pub turn_rate: f64,
     /// Forward speed, metres per second.
     pub speed: f64,
+    /// The direction the planner steers toward, when it has one (absolute, radians): the turn
+    /// brings the heading there and no further. Bodies that act in larger steps than the
+    /// planner's (an animated character) use it not to overshoot.
+    pub toward: Option<f64>,
 }
 
 /// What happened during one step.
@@ -211,7 +215,7 @@ mod tests {
     #[test]
     fn limits_and_guard() {
         let mut d = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.0 }, DiscLimits::default());
-        let out = d.step(Command { turn_rate: 10.0, speed: 10.0 }, 0.1, &mut OpenSpace);
+        let out = d.step(Command { turn_rate: 10.0, speed: 10.0, toward: None }, 0.1, &mut OpenSpace);
         assert!((d.pose().yaw - 0.25).abs() < 1e-12);
         assert!((d.speed() - 0.2).abs() < 1e-12);
         assert!((out.moved_m - 0.02).abs() < 1e-12);
@@ -229,7 +233,7 @@ mod tests {
                 false
             }
         }
-        let out = d.step(Command { turn_rate: 0.0, speed: 1.0 }, 0.1, &mut Wall);
+        let out = d.step(Command { turn_rate: 0.0, speed: 1.0, toward: None }, 0.1, &mut Wall);
         assert!(out.blocked);
         assert_eq!(d.pose().position, before);
         assert_eq!(d.speed(), 0.0);

@@ -343,6 +343,11 @@ impl LayeredController {
         }
         self.network.process(&self.inputs);
         let out = |k: usize| Some(self.network.output_at(self.outputs[k])).filter(|v| v.is_finite()).unwrap_or(0.0);
+        // The direction steered toward: the goal (or the way toward it), or the follower's.
+        let toward = match side {
+            None => Some(s.heading + s.goal_angle),
+            Some(_) => follow.map(|f| f.direction),
+        };
         let (speed, turn_deg) = match side {
             None => (out(1), out(0)),
             Some(side) => {
@@ -354,7 +359,7 @@ impl LayeredController {
                 (p.follow_speed_mps.min(room) * align, turn)
             }
         };
-        within_reach(Command { turn_rate: turn_deg.to_radians(), speed }, body)
+        within_reach(Command { turn_rate: turn_deg.to_radians(), speed, toward }, body)
     }
 
     /// Starts following the boundary after a stall. The first time, the side away from the
@@ -452,7 +457,7 @@ const REACH_SPEED_STEP: f64 = 0.05;
 /// commanded speed keeps its curvature at the highest lower speed where the body can make it,
 /// or becomes a turn on the spot at the body's limit there.
 pub fn within_reach(command: Command, body: &dyn Body) -> Command {
-    let Command { turn_rate, speed } = command;
+    let Command { turn_rate, speed, toward } = command;
     if turn_rate.abs() <= body.turn_limit(speed) {
         return command;
     }
@@ -461,10 +466,10 @@ pub fn within_reach(command: Command, body: &dyn Body) -> Command {
     for k in (1..steps).rev() {
         let v = k as f64 * REACH_SPEED_STEP;
         if (curvature * v).abs() <= body.turn_limit(v) {
-            return Command { turn_rate: curvature * v, speed: v };
+            return Command { turn_rate: curvature * v, speed: v, toward };
         }
     }
-    Command { turn_rate: turn_rate.signum() * turn_rate.abs().min(body.turn_limit(0.0)), speed: 0.0 }
+    Command { turn_rate: turn_rate.signum() * turn_rate.abs().min(body.turn_limit(0.0)), speed: 0.0, toward }
 }
 
 fn other(side: Side) -> Side {
@@ -504,18 +509,18 @@ mod tests {
     #[test]
     fn commands_are_shaped_to_the_body() {
         // Within reach: unchanged.
-        let c = Command { turn_rate: 0.5, speed: 1.0 };
+        let c = Command { turn_rate: 0.5, speed: 1.0, toward: None };
         assert_eq!(within_reach(c, &Slow), c);
         // Too sharp at 1 m/s: the same curvature (1.5 rad/m) at the highest speed that can make
         // it (1.5·v ≤ 2 − v, v ≤ 0.8).
-        let c = within_reach(Command { turn_rate: 1.5, speed: 1.0 }, &Slow);
+        let c = within_reach(Command { turn_rate: 1.5, speed: 1.0, toward: None }, &Slow);
         assert!((c.turn_rate / c.speed - 1.5).abs() < 1e-9 && c.speed <= 0.8 + 1e-9 && c.speed > 0.7, "{c:?}");
         // Sharper than anything while moving: a turn on the spot at the standing limit.
-        let c = within_reach(Command { turn_rate: -50.0, speed: 0.5 }, &Slow);
-        assert_eq!(c, Command { turn_rate: -2.0, speed: 0.0 });
+        let c = within_reach(Command { turn_rate: -50.0, speed: 0.5, toward: None }, &Slow);
+        assert_eq!(c, Command { turn_rate: -2.0, speed: 0.0, toward: None });
         // The disc turns 2.5 rad/s at any speed: a sharper command keeps its curvature.
         let disc = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.0 }, Default::default());
-        let c = within_reach(Command { turn_rate: 3.0, speed: 1.0 }, &disc);
+        let c = within_reach(Command { turn_rate: 3.0, speed: 1.0, toward: None }, &disc);
         assert!(c.turn_rate <= 2.5 && (c.turn_rate / c.speed - 3.0).abs() < 1e-9, "{c:?}");
     }
 }

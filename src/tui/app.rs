@@ -594,7 +594,7 @@ impl App {
         let dy = f64::from(d.from.1) - f64::from(d.to.1);
         let speed = (dy / (f64::from(area.height) / 4.0).max(1.0)).clamp(0.0, 1.0) * l.max_speed;
         let turn = -(dx / (f64::from(area.width) / 4.0).max(1.0)).clamp(-1.0, 1.0) * l.max_turn_rate;
-        Command { turn_rate: turn, speed }
+        Command { turn_rate: turn, speed, toward: None }
     }
 
     /// Moves the selected agent's goal to `p` (metres), if a disc of the agent's size fits
