@@ -298,6 +298,19 @@ pub struct Database {
     /// Per interval, clip frames after its start whose root positions are at most
     /// [`SWEEP_SPACING_M`] apart, ending with its last frame.
     sweep_frames: Vec<Vec<usize>>,
+    /// Per interval, the feet at its first and last frame: contact bits and the heel and toe
+    /// positions in the interval's ground frame at that frame.
+    ends: Vec<[FeetAt; 2]>,
+}
+
+/// Where the feet are in a frame: contact bits ([`contact_bit`]) and the heel and toe of each
+/// foot in the frame's own ground frame (root above the origin, facing +X), metres.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FeetAt {
+    /// Contact bits.
+    pub bits: u8,
+    /// `[foot][0 heel, 1 toe]`.
+    pub points: [[DVec3; 2]; 2],
 }
 
 /// Finds the left and right foot joints by name.
@@ -684,7 +697,9 @@ impl Database {
             tracks,
             contacts,
             sweep_frames,
+            ends: Vec::new(),
         };
+        db.ends = (0..db.intervals.len()).map(|i| db.feet_at_ends(i)).collect();
         db.mirror = db.find_mirrors();
         // Mirrors share their measured motion exactly (mirrored), so that left and right
         // choices never part on rounding.
@@ -728,6 +743,23 @@ impl Database {
             })
             .collect();
         Ok(db)
+    }
+
+    /// The feet at the first and last frame of interval `i`, each in its own ground frame.
+    fn feet_at_ends(&self, i: usize) -> [FeetAt; 2] {
+        let iv = &self.intervals[i];
+        let mut g = Vec::new();
+        [iv.start, iv.end].map(|f| {
+            let p = self.relative_pose(iv.clip, f as f64);
+            self.skeleton.globals(&p, &mut g);
+            FeetAt { bits: self.contacts[iv.clip][f], points: point_positions(&g, self.feet, &self.contact_points) }
+        })
+    }
+
+    /// The feet at the start (`end` false) or the end of interval `i`, in the ground frame of
+    /// that frame.
+    pub fn feet_at(&self, i: usize, end: bool) -> &FeetAt {
+        &self.ends[i][usize::from(end)]
     }
 
     /// The kind of interval `i`; needs the successors.

@@ -12,7 +12,10 @@
 //! ground, its contact point (heel, or toe once the heel lifts) is held where it touched down.
 //! Blends and corrections that would move it are undone by a two-bone IK of hip and knee, the
 //! foot keeping its animated orientation; at lift-off the correction fades out over
-//! [`PlayerParams::release_s`]. So switching intervals never slides or teleports a planted foot.
+//! [`PlayerParams::release_s`]. A planted foot whose heading turns (a blend between a turn on
+//! the spot and a step) pivots on its toe with the heel lifted, as a person does — the actor's
+//! hip cannot turn a flat foot on the ground. So switching intervals never slides or teleports
+//! a planted foot.
 //!
 //! The player also measures what a viewer would notice: foot skating at the heel and toe
 //! contact points (horizontal slide `d` per frame weighted by `2 − 2^(h/H)` while the point is
@@ -292,6 +295,9 @@ pub struct SwitchPoint {
     pub ground: Ground,
     /// True for an early switch in the middle of an interval.
     pub early: bool,
+    /// The feet on the ground at the switch: which point (0 heel, 1 toe) is held and where
+    /// (world, horizontal).
+    pub planted: [Option<(usize, DVec2)>; 2],
     root: RootMotion,
     blend_s: f64,
     h: f64,
@@ -322,8 +328,45 @@ impl SwitchPoint {
         while root.frame < iv.end as f64 - 1e-9 {
             root.advance_by(db, self.h.min((iv.end as f64 - root.frame) * ft));
         }
-        SwitchPoint { ending: root.interval, ground: root.world, early: false, root, blend_s: self.blend_s, h: self.h }
+        let planted = planted_at(db.feet_at(root.interval, true), root.world);
+        SwitchPoint {
+            ending: root.interval,
+            ground: root.world,
+            early: false,
+            planted,
+            root,
+            blend_s: self.blend_s,
+            h: self.h,
+        }
     }
+
+    /// How far the start pose of candidate `choice` would put a foot planted now from where it
+    /// is held (the largest over the feet planted in both), metres: what foot locking must
+    /// bridge.
+    pub fn reach_gap(&self, db: &Database, choice: usize) -> f64 {
+        let start = db.feet_at(db.candidates[self.ending][choice].interval, false);
+        let mut gap = 0.0f64;
+        for (f, held) in self.planted.iter().enumerate() {
+            if let Some((k, at)) = held
+                && start.bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0
+            {
+                let p = self.ground.then(Ground { x: start.points[f][*k].x, y: start.points[f][*k].y, yaw: 0.0 });
+                gap = gap.max(DVec2::new(p.x, p.y).distance(*at));
+            }
+        }
+        gap
+    }
+}
+
+/// The feet `feet` (in the ground frame `g`) holds on the ground, in the world.
+fn planted_at(feet: &super::db::FeetAt, g: Ground) -> [Option<(usize, DVec2)>; 2] {
+    [0, 1].map(|f| {
+        (feet.bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0).then(|| {
+            let k = usize::from(feet.points[f][1].z < feet.points[f][0].z);
+            let p = g.then(Ground { x: feet.points[f][k].x, y: feet.points[f][k].y, yaw: 0.0 });
+            (k, DVec2::new(p.x, p.y))
+        })
+    })
 }
 
 /// What the player decides at a switch point: the index of the candidate (in
@@ -367,7 +410,17 @@ struct FootLock {
     fading: Option<(DVec2, f64)>,
     /// Slide of the current plant so far, centimetres.
     slide_cm: f64,
+    /// Heading of the foot (heel to toe) when it touched down, radians.
+    yaw0: f64,
 }
+
+/// A planted foot whose heading turns more than this while its heel is down pivots on its toe
+/// with the heel lifted, radians (2°)…
+const LIFT_FROM_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+/// …fully lifted once it has turned this much more, radians (4°)…
+const LIFT_SPAN_RAD: f64 = 4.0 * std::f64::consts::PI / 180.0;
+/// …to this height of the heel above the toe, metres.
+const LIFT_HEEL_M: f64 = 0.03;
 
 /// Plays intervals with transitions and root motion.
 #[derive(Debug, Clone)]
@@ -470,6 +523,7 @@ impl Player {
             ending: self.root.interval,
             ground: self.root.world,
             early: true,
+            planted: self.planted(),
             root: self.root,
             blend_s: self.blend_time(true),
             h: 1.0 / self.params.frame_rate,
@@ -487,10 +541,16 @@ impl Player {
             ending: root.interval,
             ground: root.world,
             early: false,
+            planted: planted_at(db.feet_at(root.interval, true), root.world),
             root,
             blend_s: self.blend_time(false),
             h,
         }
+    }
+
+    /// The feet held on the ground now: the held point and where it is held.
+    fn planted(&self) -> [Option<(usize, DVec2)>; 2] {
+        self.locks.map(|l| l.down.then_some((l.pivot, l.anchor)))
     }
 
     fn blend_time(&self, early: bool) -> f64 {
@@ -535,9 +595,17 @@ impl Player {
         let blend_s = self.blend_time(false);
         let mut seamless = true;
         let before = self.root;
+        let planted = self.planted();
         let switched = self.root.step(db, h, &mut |root| {
-            let point =
-                SwitchPoint { ending: root.interval, ground: root.world, early: false, root: *root, blend_s, h };
+            let point = SwitchPoint {
+                ending: root.interval,
+                ground: root.world,
+                early: false,
+                planted,
+                root: *root,
+                blend_s,
+                h,
+            };
             let cands = &db.candidates[root.interval];
             let c = cands[chooser.choose(db, &point).min(cands.len() - 1)];
             seamless = c.seamless;
@@ -645,7 +713,13 @@ impl Player {
         for f in 0..2 {
             let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
             let height = |k: usize| points[f][k].z - db.point_floor[f][k];
+            let (heel, toe) = (points[f][0], points[f][1]);
+            let along = (toe - heel).truncate();
+            let yaw = along.y.atan2(along.x);
             let lock = &mut self.locks[f];
+            // A turn of the planted foot: pivot on the toe with the heel lifted, as a person
+            // does (the actor's hip cannot turn the foot on the ground).
+            let mut lift = None;
             if down {
                 let lower = usize::from(height(1) < height(0));
                 if !lock.down {
@@ -659,6 +733,7 @@ impl Player {
                         correction: c,
                         fading: None,
                         slide_cm: 0.0,
+                        yaw0: yaw,
                     };
                     let ankle = self.globals[db.feet[f]].0;
                     self.footprints.push(Footprint {
@@ -667,12 +742,20 @@ impl Player {
                         yaw: self.root.world.yaw,
                         foot: f as u8,
                     });
-                } else if lower != lock.pivot && (height(lock.pivot) - height(lower)) > 0.003 {
+                }
+                let turned = wrap_angle(yaw - lock.yaw0).abs();
+                let u = smoothstep((turned - LIFT_FROM_RAD) / LIFT_SPAN_RAD);
+                let flat = height(1) < height(0) + 0.01;
+                let pivot = if u > 0.0 && flat { 1 } else { lower };
+                if pivot != lock.pivot && (u > 0.0 || (height(lock.pivot) - height(lower)) > 0.003) {
                     // The foot rolls onto its other point: hold that one from here on.
-                    lock.anchor = points[f][lower].truncate() + lock.correction;
-                    lock.pivot = lower;
+                    lock.anchor = points[f][pivot].truncate() + lock.correction;
+                    lock.pivot = pivot;
                 }
                 lock.correction = lock.anchor - points[f][lock.pivot].truncate();
+                if u > 0.0 && flat {
+                    lift = heel_lift(heel, toe, u);
+                }
             } else if lock.down {
                 self.metrics.plants += 1;
                 if lock.slide_cm >= PERCEPTIBLE_SLIDE_CM {
@@ -686,8 +769,13 @@ impl Player {
             } else {
                 lock.correction = DVec2::ZERO;
             }
-            if self.params.foot_locking && lock.correction.length_squared() > 1e-12 {
-                leg_ik(db, &mut self.pose, &self.globals, db.feet[f], lock.correction.extend(0.0));
+            if self.params.foot_locking && (lock.correction.length_squared() > 1e-12 || lift.is_some()) {
+                let (ankle, q) = self.globals[db.feet[f]];
+                let (target, rot) = match lift {
+                    Some(r) => (toe + r * (ankle - toe), r * q),
+                    None => (ankle, q),
+                };
+                leg_ik(db, &mut self.pose, &self.globals, db.feet[f], target + lock.correction.extend(0.0), rot);
                 changed = true;
             }
         }
@@ -746,10 +834,30 @@ impl Player {
     }
 }
 
-/// Two-bone leg IK: moves the ankle `foot` of `pose` (world pose, globals `g`) by `shift`
-/// (world) by turning its hip and knee, the knee staying in the plane it bends in, and keeps
-/// the foot's world orientation. A target out of reach is approached as far as the leg goes.
-fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, shift: DVec3) {
+/// The rotation about the toe that lifts the heel to `u × LIFT_HEEL_M` above the toe (none when
+/// it is that high already).
+fn heel_lift(heel: DVec3, toe: DVec3, u: f64) -> Option<DQuat> {
+    let v = heel - toe;
+    let len = v.length();
+    let want = u * LIFT_HEEL_M;
+    if len < 1e-6 || v.z >= want {
+        return None;
+    }
+    let phi = (want / len).clamp(-1.0, 1.0).asin() - (v.z / len).clamp(-1.0, 1.0).asin();
+    let axis = DVec3::new(-v.y, v.x, 0.0).normalize_or_zero();
+    if axis == DVec3::ZERO {
+        return None;
+    }
+    // Turn the way that raises the heel.
+    let r = DQuat::from_axis_angle(axis, phi);
+    Some(if (r * v).z >= v.z { r } else { DQuat::from_axis_angle(axis, -phi) })
+}
+
+/// Two-bone leg IK: puts the ankle `foot` of `pose` (world pose, globals `g`) at `target`
+/// (world) by turning its hip and knee, the knee staying in the plane it bends in, and gives the
+/// foot the world orientation `foot_rot`. A target out of reach is approached as far as the leg
+/// goes.
+fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, target: DVec3, foot_rot: DQuat) {
     let joints = db.skeleton.joints();
     let Some(knee) = joints[foot].parent else { return };
     let Some(hip) = joints[knee].parent else { return };
@@ -759,7 +867,6 @@ fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, shi
     if l1 < 1e-6 || l2 < 1e-6 {
         return;
     }
-    let target = ap + shift;
     let to_t = target - hp;
     let d = to_t.length().clamp((l1 - l2).abs() + 1e-6, l1 + l2 - 1e-6);
     let u = if to_t.length() > 1e-9 { to_t / to_t.length() } else { (ap - hp).normalize_or_zero() };
@@ -782,7 +889,7 @@ fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, shi
     ) * knee_rot0;
     pose.rotations[hip] = (hip_parent_rot.inverse() * hip_rot).normalize();
     pose.rotations[knee] = (hip_rot.inverse() * knee_rot).normalize();
-    pose.rotations[foot] = (knee_rot.inverse() * g[foot].1).normalize();
+    pose.rotations[foot] = (knee_rot.inverse() * foot_rot).normalize();
 }
 
 fn shortest(q: DQuat) -> DQuat {

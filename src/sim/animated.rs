@@ -202,6 +202,22 @@ struct LookAhead<'a> {
     held: bool,
 }
 
+/// Why a candidate may or may not be taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Eligibility {
+    /// Its path (and a stop or turn after it) keeps the clearance.
+    Clear,
+    /// Something is in the way.
+    Blocked,
+    /// Its start cannot reach the feet planted now.
+    OutOfReach,
+}
+
+/// Farthest a candidate's start pose may put a planted foot from where it is held, metres:
+/// beyond it, holding the foot would stretch the leg past its reach (a step that cannot follow
+/// from this stance).
+pub const LOCK_REACH_M: f64 = 0.2;
+
 /// Allowance added to every clearance check of a sampled root path for the curve between its
 /// points, metres.
 const PATH_ALLOWANCE_M: f64 = 0.005;
@@ -231,32 +247,37 @@ impl LookAhead<'_> {
         }
     }
 
-    /// Candidate `a` at `at` may be taken: its path keeps the clearance, and — unless it stays
-    /// in place — a turn on the spot after it does too, so the character never walks where it
-    /// could not turn round.
-    fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> bool {
+    /// Candidate `a` at `at` may be taken: its start can reach the feet planted now (within
+    /// [`LOCK_REACH_M`]), its path keeps the clearance, and — unless it stays in place — so
+    /// does a turn on the spot or a stop after it, so the character never walks where it could
+    /// not stop or turn round.
+    fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
+        if at.reach_gap(db, a) > LOCK_REACH_M {
+            return Eligibility::OutOfReach;
+        }
         let next = db.candidates[at.ending][a].interval;
         let in_place = db.kinds[next].in_place;
         self.path.clear();
         at.path(db, a, self.path);
         if !self.clear(if in_place { needs.1 } else { needs.0 }) {
-            return false;
+            return Eligibility::Blocked;
         }
         if in_place {
-            return true;
+            return Eligibility::Clear;
         }
         let then = at.then(db, a);
         for b in 0..db.candidates[next].len() {
-            if db.kinds[db.candidates[next][b].interval].spot_turn == 0 {
+            let kind = db.kinds[db.candidates[next][b].interval];
+            if (kind.spot_turn == 0 && !kind.stops) || then.reach_gap(db, b) > LOCK_REACH_M {
                 continue;
             }
             self.path.clear();
             then.path(db, b, self.path);
             if self.clear(needs.1) {
-                return true;
+                return Eligibility::Clear;
             }
         }
-        false
+        Eligibility::Blocked
     }
 
     /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
@@ -285,15 +306,18 @@ impl Chooser for LookAhead<'_> {
         let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
         ranker.rank(db, at.ending, errors, task, self.rng, self.order);
         let needs = self.needs(DVec2::new(at.ground.x, at.ground.y));
-        let mut refused = false;
+        let mut blocked = false;
         let order = std::mem::take(self.order);
         let mut pick = None;
         for &a in &order {
-            if self.eligible(db, at, a, needs) {
-                pick = Some(a);
-                break;
+            match self.eligible(db, at, a, needs) {
+                Eligibility::Clear => {
+                    pick = Some(a);
+                    break;
+                }
+                Eligibility::Blocked => blocked = true,
+                Eligibility::OutOfReach => {}
             }
-            refused = true;
         }
         *self.order = order;
         let cands = &db.candidates[at.ending];
@@ -303,9 +327,9 @@ impl Chooser for LookAhead<'_> {
             let room: Vec<f64> = (0..cands.len()).map(|a| self.path_clearance(db, at, a)).collect();
             (0..cands.len()).max_by(|&x, &y| room[x].total_cmp(&room[y]).then(y.cmp(&x))).unwrap_or(0)
         });
-        // Held: something the character wanted was not clear, and it stands or turns on the
-        // spot instead.
-        self.held = refused && db.kinds[cands[a].interval].in_place;
+        // Held: something the character wanted was blocked by obstacles, and it stands or
+        // turns on the spot instead.
+        self.held = blocked && db.kinds[cands[a].interval].in_place;
         a
     }
 }

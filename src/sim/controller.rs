@@ -127,6 +127,9 @@ pub struct ControllerParams {
     /// since, counts as a repeat; following that comes back within half of it to where it
     /// started switches side, metres (1.0).
     pub hit_radius_m: f64,
+    /// While goal seeking faces farther than this from the way to the goal, the agent is still
+    /// turning toward it and the stall clock waits, radians (60°).
+    pub turning_rad: f64,
 }
 
 impl Default for ControllerParams {
@@ -141,6 +144,7 @@ impl Default for ControllerParams {
             follow_speed_mps: 0.7,
             follow: FollowParams::default(),
             hit_radius_m: 1.0,
+            turning_rad: 60f64.to_radians(),
         }
     }
 }
@@ -204,6 +208,7 @@ pub struct LayeredController {
     mode: Mode,
     best_distance: f64,
     last_progress_s: f64,
+    last_t_s: f64,
     follows: u32,
     last_side: Option<Side>,
     best_ever: f64,
@@ -250,6 +255,7 @@ impl LayeredController {
             mode: Mode::Seek,
             best_distance: f64::INFINITY,
             last_progress_s: 0.0,
+            last_t_s: 0.0,
             follows: 0,
             last_side: None,
             best_ever: f64::INFINITY,
@@ -262,6 +268,7 @@ impl LayeredController {
         self.mode = Mode::Seek;
         self.best_distance = f64::INFINITY;
         self.last_progress_s = 0.0;
+        self.last_t_s = 0.0;
         self.follows = 0;
         self.last_side = None;
         self.best_ever = f64::INFINITY;
@@ -290,7 +297,12 @@ impl LayeredController {
         if s.goal_distance < self.best_distance - p.progress_m || self.best_distance.is_infinite() {
             self.best_distance = s.goal_distance;
             self.last_progress_s = t_s;
+        } else if self.mode == Mode::Seek && s.goal_angle.abs() > p.turning_rad {
+            // Still turning toward the way to the goal: no progress is expected yet, so the
+            // stall clock waits (a body that turns slowly is not stalled).
+            self.last_progress_s += t_s - self.last_t_s;
         }
+        self.last_t_s = t_s;
         self.best_ever = self.best_ever.min(s.goal_distance);
         let (left, right) = (s.sectors[2], s.sectors[0]);
         // Ahead, what matters is the corridor the disc sweeps (so that it can pass doors
