@@ -4,7 +4,7 @@
 //! **Layout.** The grid has [`GRID_CELLS`] × [`GRID_CELLS`] cells of 1 m (so the world is
 //! `[0, 20]²` metres). A fraction of the cells drawn in [`BLOCKED_FRACTION`] (rounded to whole
 //! cells) is blocked, chosen by a shuffle of all cells. The scenario is built the way
-//! [`movingai`](super::movingai) builds imported maps ([`movingai::scenario_from`]): blocked
+//! [`movingai`] builds imported maps ([`movingai::scenario_from`]): blocked
 //! cells merged into a few axis-aligned boxes, four 1 m walls just outside the grid, cell
 //! `(x, y)` (row 0 at the top) covering `[x, x+1] × [H−1−y, H−y]` metres.
 //!

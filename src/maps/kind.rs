@@ -1,7 +1,7 @@
 //! Every seeded world generator under one name: [`WorldKind`] lists them (the three obstacle
-//! densities of [`generate`](super::generate), buildings of [`building`](super::building),
-//! mazes of [`maze`](super::maze) and grid maps of [`grid`](super::grid)), and [`generate`]
-//! makes the world of a kind and a seed. Command lines spell a kind `random:KIND`.
+//! densities of [`generate`](super::generate), buildings of [`building`], mazes of [`maze`] and
+//! grid maps of [`grid`]), and [`generate`] makes the world of a kind and a seed. Command lines
+//! spell a kind `random:KIND`.
 //!
 //! Every kind keeps the same promises: the world is closed by walls, its one task's start and
 //! goal are joined for the 0.3 m agent disc (checked with
