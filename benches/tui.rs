@@ -46,7 +46,7 @@ fn app_with_agents(n: usize) -> App {
     assert_eq!(tasks.len(), n, "not enough free start points");
     scenario.tasks = tasks;
     let mut app = App::new(
-        Config { map: MapSpec::Random(Density::Semi), rules: None, seed: 7, animation: None },
+        Config { map: MapSpec::Random(Density::Semi.into()), rules: None, seed: 7, animation: None },
         scenario,
         controller,
     );

@@ -10,15 +10,28 @@
 //! - [`generate`]: seeded random worlds at the three densities of seed 000 Fig 2 (sparse,
 //!   semi-cluttered, cluttered), filled with boxes and cylinders in three sizes each and
 //!   solvable by construction.
+//! - [`building`]: seeded random buildings, a grid of rooms joined by a random tree of doors
+//!   plus a few loops.
+//! - [`maze`]: seeded random mazes with 2–3 m corridors, carved depth first, with loops.
+//! - [`grid`]: seeded random grid maps of 1 m cells, 10–25 % blocked, in the MovingAI manner.
+//! - [`kind`]: [`WorldKind`], the name of every generator (`random:KIND` on command lines),
+//!   and [`kind::generate`], the one entry point to all of them.
 //!
 //! Units are metres and radians. Every parse error is a [`crate::diagnostic::SourceError`]
 //! naming the file, line and column of the offending token; no input makes these functions
 //! panic. Everything is deterministic: no clock, no hash-order dependence, and randomness only
 //! from [`crate::rng`].
 
+pub mod building;
+mod cells;
 pub mod generate;
+pub mod grid;
+pub mod kind;
+pub mod maze;
 pub mod movingai;
 pub mod text;
+
+pub use kind::WorldKind;
 
 use crate::scenario::Scenario;
 use crate::world::World;

@@ -25,7 +25,7 @@ use super::run::{MapSource, jobs, load_map};
 use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::{self, EpisodeRecord, Summary};
 use crate::fuzzy::Engine;
-use crate::maps::generate::{Density, random_world};
+use crate::maps::kind::{self, WorldKind};
 use crate::scenario::Scenario;
 use crate::script::fuzzy_api::{self, EngineHandle};
 use crate::script::{Limits, ScriptLog, hardened_engine, script_error};
@@ -127,9 +127,9 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
             Err(e) => Err(format!("{e:?}").into()),
         }
     });
-    engine.register_fn("random_world", |density: &str, seed: i64| -> Res<ScenarioHandle> {
-        let d: Density = density.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
-        Ok(ScenarioHandle(Arc::new(random_world(d, seed_of(seed)?))))
+    engine.register_fn("random_world", |name: &str, seed: i64| -> Res<ScenarioHandle> {
+        let k: WorldKind = name.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
+        Ok(ScenarioHandle(Arc::new(kind::generate(k, seed_of(seed)?))))
     });
     engine.register_fn("name", |s: &mut ScenarioHandle| s.0.name.clone());
     engine.register_fn("tasks", |s: &mut ScenarioHandle| s.0.tasks.len() as i64);
@@ -158,9 +158,9 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
         let e = experiment::run_episode(&s.0, &s.0.world(), t, &c, &params, 0, seed_of(seed)?);
         Ok(record_map(&e.record))
     });
-    engine.register_fn("run_batch", |density: &str, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
-        let d: Density = density.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
-        batch(&MapSource::Random(d), episodes, seed, &rules)
+    engine.register_fn("run_batch", |name: &str, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
+        let k: WorldKind = name.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
+        batch(&MapSource::Random(k), episodes, seed, &rules)
     });
     engine.register_fn("run_batch", |s: ScenarioHandle, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
         batch(&MapSource::Scenario(s.0), episodes, seed, &rules)

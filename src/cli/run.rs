@@ -10,7 +10,7 @@ use clap::{Args, ValueEnum};
 
 use super::{Failure, Outcome};
 use crate::experiment::{self, EpisodeRecord, Job};
-use crate::maps::generate::{self, Density};
+use crate::maps::kind::{self, WorldKind};
 use crate::maps::{movingai, text};
 use crate::scenario::Scenario;
 use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
@@ -23,15 +23,15 @@ pub use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_R
 pub enum MapSource {
     /// One scenario (its tasks are the episodes).
     Scenario(Arc<Scenario>),
-    /// Seeded random worlds of a density, one per episode.
-    Random(Density),
+    /// Seeded random worlds of a kind, one per episode.
+    Random(WorldKind),
 }
 
 /// Options shared by `run` and `render`.
 #[derive(Debug, Args)]
 pub struct MapArgs {
-    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:DENSITY`
-    /// (sparse, semi, cluttered) for seeded random worlds.
+    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:KIND`
+    /// (sparse, semi, cluttered, rooms, maze, grid) for seeded random worlds.
     pub map: String,
     /// MovingAI scenario file (each line one episode); default: MAP.scen if it exists.
     #[arg(long)]
@@ -79,9 +79,9 @@ fn read(path: &Path) -> Result<String, Failure> {
 
 /// Loads a map argument.
 pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
-    if let Some(density) = map.strip_prefix("random:") {
-        let d: Density = density.parse().map_err(|e| anyhow!("{e}"))?;
-        return Ok(MapSource::Random(d));
+    if let Some(name) = map.strip_prefix("random:") {
+        let k: WorldKind = name.parse().map_err(|e| anyhow!("{e}"))?;
+        return Ok(MapSource::Random(k));
     }
     let path = Path::new(map);
     let file = path.display().to_string();
@@ -107,9 +107,7 @@ pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
             movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)?
         }
         _ => {
-            return Err(
-                anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:DENSITY").into()
-            );
+            return Err(anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND").into());
         }
     };
     Ok(MapSource::Scenario(Arc::new(scenario)))
@@ -138,12 +136,12 @@ pub fn jobs(source: &MapSource, episodes: Option<usize>, seed: u64) -> Result<Ve
             let n = episodes.unwrap_or(s.tasks.len());
             (0..n).map(|i| Job { scenario: s.clone(), task: i % s.tasks.len(), seed: world_seed(seed, i) }).collect()
         }
-        MapSource::Random(d) => {
+        MapSource::Random(k) => {
             let n = episodes.unwrap_or(1);
             (0..n)
                 .map(|i| {
                     let ws = world_seed(seed, i);
-                    Job { scenario: Arc::new(generate::random_world(*d, ws)), task: 0, seed: ws }
+                    Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws }
                 })
                 .collect()
         }
@@ -237,9 +235,9 @@ fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> 
 /// `strider gen` options.
 #[derive(Debug, Args)]
 pub struct GenArgs {
-    /// Obstacle density: sparse, semi or cluttered.
-    #[arg(long)]
-    pub density: String,
+    /// World kind: sparse, semi, cluttered, rooms, maze or grid (`--density` is an alias).
+    #[arg(long, alias = "density")]
+    pub kind: String,
     /// Seed of the world.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -247,8 +245,8 @@ pub struct GenArgs {
 
 /// `strider gen`: prints a seeded random world in the plain text format.
 pub fn gen_world(args: GenArgs) -> Outcome {
-    let d: Density = args.density.parse().map_err(|e| anyhow!("{e}"))?;
-    let scenario = generate::random_world(d, args.seed);
+    let k: WorldKind = args.kind.parse().map_err(|e| anyhow!("{e}"))?;
+    let scenario = kind::generate(k, args.seed);
     let mut out = io::stdout().lock();
     out.write_all(text::write(&scenario).as_bytes())?;
     Ok(())

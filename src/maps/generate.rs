@@ -246,12 +246,32 @@ impl Occupancy {
         let nx = ((max.x - min.x) / GRID_CELL_M).ceil().max(0.0) as usize;
         let ny = ((max.y - min.y) / GRID_CELL_M).ceil().max(0.0) as usize;
         let need = agent_radius + GRID_MARGIN_M;
-        let mut scratch = Vec::new();
-        let mut free = Vec::with_capacity(nx * ny);
-        for j in 0..ny {
-            for i in 0..nx {
-                let c = Self::center_of(min, i, j);
-                free.push(world.clearance(c, need, &mut scratch) >= need);
+        let mut free = vec![true; nx * ny];
+        if nx == 0 || ny == 0 {
+            return Occupancy { min, nx, ny, free };
+        }
+        // A cell is blocked when some part lies nearer than `need` to its centre: the same rule
+        // as `world.clearance(centre, need) < need`, found by visiting, for each part, only the
+        // cells whose centres lie in its bounding box grown by `need`.
+        let span = |lo: f64, hi: f64, origin: f64, n: usize| -> Option<(usize, usize)> {
+            let first = ((lo - need - origin) / GRID_CELL_M - 0.5).floor().max(0.0);
+            let last = ((hi + need - origin) / GRID_CELL_M - 0.5).ceil().min(n as f64 - 1.0);
+            (first <= last).then_some((first as usize, last as usize))
+        };
+        for part in world.parts() {
+            let b = part.shape.aabb();
+            let (Some((i0, i1)), Some((j0, j1))) =
+                (span(b.min.x, b.max.x, min.x, nx), span(b.min.y, b.max.y, min.y, ny))
+            else {
+                continue;
+            };
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let k = j * nx + i;
+                    if free[k] && part.shape.distance(Self::center_of(min, i, j)) < need {
+                        free[k] = false;
+                    }
+                }
             }
         }
         Occupancy { min, nx, ny, free }
@@ -303,5 +323,34 @@ impl Occupancy {
             .filter(|&k| reached[k] && self.neighbours(k).any(|n| !reached[n]))
             .map(|k| Self::center_of(self.min, k % self.nx, k / self.nx))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn occupancy_is_the_clearance_rule() {
+        // Rotated boxes, cylinders and walls, some reaching past the grid.
+        for (density, seed) in [(Density::Cluttered, 3), (Density::Semi, 8), (Density::Sparse, 1)] {
+            let world = random_world(density, seed).world();
+            let (min, max) = (DVec2::new(-0.73, -1.0), DVec2::new(AREA_SIZE_M + 0.5, AREA_SIZE_M - 2.0));
+            for r in [0.0, 0.3, 0.61] {
+                let grid = Occupancy::new(&world, min, max, r);
+                let need = r + GRID_MARGIN_M;
+                let mut scratch = Vec::new();
+                let mut blocked = 0;
+                for j in 0..grid.ny {
+                    for i in 0..grid.nx {
+                        let c = Occupancy::center_of(min, i, j);
+                        let free = world.clearance(c, need, &mut scratch) >= need;
+                        assert_eq!(grid.free[j * grid.nx + i], free, "{density} seed {seed} r {r} at {c}");
+                        blocked += usize::from(!free);
+                    }
+                }
+                assert!(blocked > 0);
+            }
+        }
     }
 }

@@ -21,7 +21,7 @@ use ratatui::layout::Rect;
 use super::canvas::TermCanvas;
 use super::source::{self, MapSpec, Watched};
 use crate::geom::Aabb;
-use crate::maps::generate::{self, Density};
+use crate::maps::kind::{self, WorldKind};
 use crate::render::scene::{Scene, ViewTransform};
 use crate::render::sim_view::scene_of;
 use crate::scenario::Scenario;
@@ -379,17 +379,17 @@ impl App {
         self.fit_view();
     }
 
-    /// A new random world: the next seed, the density of the current random world (semi-
+    /// A new random world: the next seed, the kind of the current random world (semi-
     /// cluttered when the map is a file or the built-in scenario).
     pub fn new_random_world(&mut self) {
-        let density = match self.config.map {
-            MapSpec::Random(d) => d,
-            _ => Density::Semi,
+        let k = match self.config.map {
+            MapSpec::Random(k) => k,
+            _ => WorldKind::Semi,
         };
         self.config.seed = self.config.seed.wrapping_add(1);
-        self.config.map = MapSpec::Random(density);
-        let s = generate::random_world(density, crate::experiment::world_seed(self.config.seed, 0));
-        self.info(format!("new {density} world, seed {}", self.config.seed));
+        self.config.map = MapSpec::Random(k);
+        let s = kind::generate(k, crate::experiment::world_seed(self.config.seed, 0));
+        self.info(format!("new {k} world, seed {}", self.config.seed));
         self.set_scenario(s);
     }
 
@@ -691,7 +691,7 @@ mod tests {
         let mut a = app();
         a.on_key(key('n'));
         assert_eq!(a.config.seed, 2);
-        assert_eq!(a.config.map, MapSpec::Random(Density::Semi));
+        assert_eq!(a.config.map, MapSpec::Random(WorldKind::Semi));
         assert_eq!(a.sim.time_s, 0.0);
     }
 }

@@ -11,7 +11,7 @@ use std::time::SystemTime;
 
 use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::world_seed;
-use crate::maps::generate::{self, Density};
+use crate::maps::kind::{self, WorldKind};
 use crate::maps::{movingai, text};
 use crate::scenario::Scenario;
 use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
@@ -24,12 +24,12 @@ pub enum MapSpec {
     BuiltIn,
     /// A map file (`.rhai`, `.txt`, or MovingAI `.map` with `FILE.map.scen`).
     File(PathBuf),
-    /// A seeded random world of a density (`random:DENSITY`).
-    Random(Density),
+    /// A seeded random world of a kind (`random:KIND`).
+    Random(WorldKind),
 }
 
 impl MapSpec {
-    /// Reads a map argument: `random:DENSITY` or a path; `None` is the built-in scenario.
+    /// Reads a map argument: `random:KIND` or a path; `None` is the built-in scenario.
     pub fn parse(arg: Option<&str>) -> Result<MapSpec, String> {
         match arg {
             None => Ok(MapSpec::BuiltIn),
@@ -72,7 +72,7 @@ pub fn load_scenario(spec: &MapSpec, seed: u64) -> Loaded<Scenario> {
             map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log).map_err(|e| e.to_string()),
             DEFAULT_MAP_FILE.to_string(),
         ),
-        MapSpec::Random(d) => (Ok(generate::random_world(*d, world_seed(seed, 0))), String::new()),
+        MapSpec::Random(k) => (Ok(kind::generate(*k, world_seed(seed, 0))), String::new()),
         MapSpec::File(path) => {
             let file = path.display().to_string();
             let result = read(path).and_then(|src| match path.extension().and_then(|e| e.to_str()) {
@@ -83,7 +83,7 @@ pub fn load_scenario(spec: &MapSpec, seed: u64) -> Loaded<Scenario> {
                     let scen_src = read(&scen)?;
                     movingai::load(&src, &file, &scen_src, &scen.display().to_string()).map_err(|e| e.to_string())
                 }
-                _ => Err(format!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:DENSITY")),
+                _ => Err(format!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND")),
             });
             (result, file)
         }
