@@ -64,17 +64,25 @@ impl Animation {
     pub fn new(db: Database, policy: Policy) -> Animation {
         let top = db.max_speed() + TURN_BAND_MPS;
         let steps = (top / TURN_TABLE_STEP).ceil() as usize + 1;
+        // Sustained turning: an interval and its natural successor together (turning clips turn
+        // in bursts at the plants).
+        let rate = |i: usize| {
+            let (a, b) = (&db.intervals[i], &db.intervals[db.successor[i]]);
+            if db.kinds[i].in_place {
+                a.turn().abs() / a.duration.max(1e-9)
+            } else {
+                (a.turn() + b.turn()).abs() / (a.duration + b.duration).max(1e-9)
+            }
+        };
         let mut turn_ability: Vec<f64> = (0..steps)
             .map(|k| {
                 let v = k as f64 * TURN_TABLE_STEP;
-                db.intervals
-                    .iter()
-                    .zip(&db.kinds)
-                    .filter(|(iv, kind)| {
-                        let speed = if kind.in_place { 0.0 } else { iv.speed };
+                (0..db.intervals.len())
+                    .filter(|&i| {
+                        let speed = if db.kinds[i].in_place { 0.0 } else { db.intervals[i].speed };
                         (speed - v).abs() <= TURN_BAND_MPS
                     })
-                    .map(|(iv, _)| iv.turn().abs() / iv.duration.max(1e-9))
+                    .map(rate)
                     .fold(0.0, f64::max)
             })
             .collect();
@@ -122,8 +130,9 @@ impl Animation {
     }
 
     /// The largest turn rate the character can follow at `speed`, radians per second: the
-    /// fastest turn among the intervals within 0.25 m/s of it (turns on the spot count as
-    /// speed 0; speeds no interval comes near take their nearest neighbours').
+    /// fastest sustained turn (an interval with its natural successor) among the intervals
+    /// within 0.25 m/s of it (turns on the spot count as speed 0; speeds no interval comes near
+    /// take their nearest neighbours').
     pub fn turn_limit(&self, speed: f64) -> f64 {
         let k = if speed.is_finite() { (speed.max(0.0) / TURN_TABLE_STEP).round() as usize } else { 0 };
         self.turn_ability[k.min(self.turn_ability.len() - 1)]
@@ -183,6 +192,8 @@ pub struct AnimatedBody {
     rng: ChaCha8Rng,
     /// The interval playing was taken because every moving candidate ahead was blocked.
     held: bool,
+    /// How long the character has been held still, seconds.
+    held_s: f64,
     order: Vec<usize>,
     path: Vec<DVec2>,
     /// Command tracking so far.
@@ -200,7 +211,13 @@ struct LookAhead<'a> {
     order: &'a mut Vec<usize>,
     path: &'a mut Vec<DVec2>,
     held: bool,
+    /// Held still longer than [`RESTLESS_S`].
+    restless: bool,
 }
+
+/// After being held still this long, a character takes any clear turn or step before standing
+/// on, seconds.
+pub const RESTLESS_S: f64 = 1.0;
 
 /// Why a candidate may or may not be taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -259,7 +276,8 @@ impl LookAhead<'_> {
         let in_place = db.kinds[next].in_place;
         self.path.clear();
         at.path(db, a, self.path);
-        if !self.clear(if in_place { needs.1 } else { needs.0 }) {
+        // Only a turn on the spot may give up some of the margin (to turn away from a wall).
+        if !self.clear(if db.kinds[next].spot_turn != 0 { needs.1 } else { needs.0 }) {
             return Eligibility::Blocked;
         }
         if in_place {
@@ -309,14 +327,25 @@ impl Chooser for LookAhead<'_> {
         let mut blocked = false;
         let order = std::mem::take(self.order);
         let mut pick = None;
-        for &a in &order {
-            match self.eligible(db, at, a, needs) {
-                Eligibility::Clear => {
-                    pick = Some(a);
-                    break;
+        // Held still for a while: anything that turns or moves comes before standing on.
+        let standing = |a: usize| {
+            let k = db.kinds[db.candidates[at.ending][a].interval];
+            k.in_place && k.spot_turn == 0
+        };
+        let passes: &[bool] = if self.restless { &[true, false] } else { &[false] };
+        'search: for &skip_standing in passes {
+            for &a in &order {
+                if skip_standing && standing(a) {
+                    continue;
                 }
-                Eligibility::Blocked => blocked = true,
-                Eligibility::OutOfReach => {}
+                match self.eligible(db, at, a, needs) {
+                    Eligibility::Clear => {
+                        pick = Some(a);
+                        break 'search;
+                    }
+                    Eligibility::Blocked => blocked = true,
+                    Eligibility::OutOfReach => {}
+                }
             }
         }
         *self.order = order;
@@ -327,9 +356,10 @@ impl Chooser for LookAhead<'_> {
             let room: Vec<f64> = (0..cands.len()).map(|a| self.path_clearance(db, at, a)).collect();
             (0..cands.len()).max_by(|&x, &y| room[x].total_cmp(&room[y]).then(y.cmp(&x))).unwrap_or(0)
         });
-        // Held: something the character wanted was blocked by obstacles, and it stands or
-        // turns on the spot instead.
-        self.held = blocked && db.kinds[cands[a].interval].in_place;
+        // Held: something the character wanted was blocked by obstacles, and it stands still
+        // instead (turning on the spot is doing something about it).
+        let kind = db.kinds[cands[a].interval];
+        self.held = blocked && kind.in_place && kind.spot_turn == 0;
         a
     }
 }
@@ -355,6 +385,7 @@ impl AnimatedBody {
             switches: 0,
             rng: crate::rng::stream(key, 0, 0x7a9d),
             held: false,
+            held_s: 0.0,
             order: Vec::new(),
             path: Vec::new(),
             tracking: Tracking::default(),
@@ -381,8 +412,8 @@ impl AnimatedBody {
         }
     }
 
-    /// True while the character plays a stop or a turn on the spot because nothing moving
-    /// ahead was clear.
+    /// True while the character stands still because what it wanted to do next was blocked by
+    /// obstacles.
     pub fn held(&self) -> bool {
         self.held
     }
@@ -408,6 +439,7 @@ impl AnimatedBody {
             order: &mut self.order,
             path: &mut self.path,
             held: false,
+            restless: self.held_s > RESTLESS_S,
         };
         chooser.choose(&anim.db, &at)
     }
@@ -438,6 +470,7 @@ impl AnimatedBody {
             order: &mut self.order,
             path: &mut self.path,
             held: false,
+            restless: self.held_s > RESTLESS_S,
         };
         let choice = chooser.choose(db, &at);
         self.held = chooser.held;
@@ -497,6 +530,7 @@ impl Body for AnimatedBody {
                 order: &mut self.order,
                 path: &mut self.path,
                 held: self.held,
+                restless: self.held_s > RESTLESS_S,
             };
             self.player.advance_frame(&anim.db, &mut chooser);
             self.held = chooser.held;
@@ -512,6 +546,7 @@ impl Body for AnimatedBody {
             }
         }
         outcome.held = self.held && speed >= HELD_SPEED_MPS;
+        self.held_s = if self.held { self.held_s + dt } else { 0.0 };
         self.speed = outcome.moved_m / dt;
         // Tracking: the commanded unicycle from the root at the last switch point.
         let g = self.player.ground();

@@ -34,9 +34,8 @@ pub struct StepOutcome {
     pub moved_m: f64,
     /// True when the step had to be shortened or refused because it would hit something.
     pub blocked: bool,
-    /// True when the body was commanded to move but had to stand or turn on the spot because
-    /// every way forward was blocked (an animated character's look-ahead refusing its moving
-    /// candidates).
+    /// True when the body was commanded to move but stood still because what it wanted to do
+    /// next was blocked (an animated character's look-ahead refusing its candidates).
     pub held: bool,
 }
 

@@ -130,6 +130,9 @@ pub struct ControllerParams {
     /// While goal seeking faces farther than this from the way to the goal, the agent is still
     /// turning toward it and the stall clock waits, radians (60°).
     pub turning_rad: f64,
+    /// Goal seeking steers toward the goal alone (no avoidance) while nothing is nearer than
+    /// this, metres (1.0).
+    pub open_m: f64,
 }
 
 impl Default for ControllerParams {
@@ -145,6 +148,7 @@ impl Default for ControllerParams {
             follow: FollowParams::default(),
             hit_radius_m: 1.0,
             turning_rad: 60f64.to_radians(),
+            open_m: 1.0,
         }
     }
 }
@@ -355,9 +359,10 @@ impl LayeredController {
         }
         self.network.process(&self.inputs);
         let out = |k: usize| Some(self.network.output_at(self.outputs[k])).filter(|v| v.is_finite()).unwrap_or(0.0);
-        // The direction steered toward: the goal (or the way toward it), or the follower's.
+        // The direction steered toward: the follower's; when seeking with nothing near (the
+        // turn is goal seeking's alone), the goal or the way toward it.
         let toward = match side {
-            None => Some(s.heading + s.goal_angle),
+            None => (s.nearest >= p.open_m).then_some(s.heading + s.goal_angle),
             Some(_) => follow.map(|f| f.direction),
         };
         let (speed, turn_deg) = match side {
