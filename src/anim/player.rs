@@ -710,10 +710,10 @@ impl Player {
         let bits = self.contacts_now(db);
         let points = point_positions(&self.globals, db.feet, &db.contact_points);
         let mut changed = false;
-        for f in 0..2 {
+        for (f, pts) in points.iter().enumerate() {
             let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
-            let height = |k: usize| points[f][k].z - db.point_floor[f][k];
-            let (heel, toe) = (points[f][0], points[f][1]);
+            let height = |k: usize| pts[k].z - db.point_floor[f][k];
+            let (heel, toe) = (pts[0], pts[1]);
             let along = (toe - heel).truncate();
             let yaw = along.y.atan2(along.x);
             let lock = &mut self.locks[f];
@@ -729,7 +729,7 @@ impl Player {
                     *lock = FootLock {
                         down: true,
                         pivot: lower,
-                        anchor: points[f][lower].truncate() + c,
+                        anchor: pts[lower].truncate() + c,
                         correction: c,
                         fading: None,
                         slide_cm: 0.0,
@@ -749,10 +749,10 @@ impl Player {
                 let pivot = if u > 0.0 && flat { 1 } else { lower };
                 if pivot != lock.pivot && (u > 0.0 || (height(lock.pivot) - height(lower)) > 0.003) {
                     // The foot rolls onto its other point: hold that one from here on.
-                    lock.anchor = points[f][pivot].truncate() + lock.correction;
+                    lock.anchor = pts[pivot].truncate() + lock.correction;
                     lock.pivot = pivot;
                 }
-                lock.correction = lock.anchor - points[f][lock.pivot].truncate();
+                lock.correction = lock.anchor - pts[lock.pivot].truncate();
                 if u > 0.0 && flat {
                     lift = heel_lift(heel, toe, u);
                 }
