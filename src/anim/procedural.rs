@@ -24,8 +24,9 @@ pub mod leg;
 pub mod motion;
 
 pub use catalogue::{
-    DEFAULT_STEPS, STRAIGHT_STEPS, contact_params, default_clips, default_database, default_intervals, idle_clip,
-    locomotion, locomotion_path, pivot_clip, speed_change_clip, start_clip, stop_clip,
+    DEFAULT_STEPS, STRAIGHT_STEPS, TurningStop, contact_params, default_clips, default_database, default_intervals,
+    idle_clip, locomotion, locomotion_path, pivot_clip, speed_change_clip, start_clip, stop_clip, turning_start_clip,
+    turning_stop_clip,
 };
 pub use gait::{Gait, GaitError};
 

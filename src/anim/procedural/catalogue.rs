@@ -11,13 +11,20 @@
 //! | `{gait}_left90`, `{gait}_right90` | a 90° turn between two straight steps on each side, over two steps (walks and jog), four (run) or six (sprint) |
 //! | `walk_start`, `slow_walk_start` (`_r`) | standing still to the steady gait: the left foot (right for `_r`) takes a half step, the other a full one |
 //! | `walk_stop`, `slow_walk_stop` (`_r`) | from a left (right) plant of the steady gait to standing in two steps: a half step, then the feet side by side |
+//! | `{gait}_start_left45`, `{gait}_start_left90` (`_right45`, `_right90`) | slow walk and walk: standing still to the steady gait heading 45° or 90° to the left (right) of where the body stood: it pivots on the ball of the right (left) foot while the left (right) foot steps out in the new direction, then the other foot takes a full step; ends on a right (left) plant |
+//! | `{gait}_stop_left90` (`_right90`) | slow walk and walk: from a left (right) plant of the steady gait to standing turned 90° toward the planted foot in one step — a spin turn: the body pivots on the ball of the planted foot while the other leg swings around and lands beside it |
+//! | `{gait}_stop_step_right90` (`_step_left90`) | from a left (right) plant to standing turned 90° away from the planted foot in two steps — a step turn: the body pivots 45° on the ball of the planted foot while the other foot steps out in the new direction, then 45° on the ball of that foot while the first one closes beside it |
+//! | `{gait}_stop_left180` (`_right180`) | from a left (right) plant to standing turned 180° toward the planted foot in two steps: a spin turn of 90° on the planted foot, then 90° more on the ball of the other foot while the first one steps around behind it |
 //! | `slow_walk_to_walk`, `walk_to_slow_walk` (`_r`) | two steps from a left (right) plant of one walk to a left (right) plant of the other |
 //! | `pivot_left45`, `pivot_left90`, `pivot_right45`, `pivot_right90` | turning on the spot from standing to standing: the inside foot steps while the body pivots on the ball of the other foot, then the feet close |
 //! | `idle` | standing still, breathing; symmetric |
 //!
-//! Start, stop and pivot clips begin or end exactly in the idle's first pose, and start, stop
-//! and speed changes begin or end exactly in a plant of the steady gaits, so the database's
-//! natural successors join them without a jump.
+//! Start, stop and pivot clips, turning or not, begin or end exactly in the idle's first pose
+//! (turned by their angle), and starts, stops and speed changes begin or end exactly in a plant
+//! of the steady gaits, so the database's natural successors join them without a jump. The
+//! hips cannot twist: turning starts and stops turn the body only while each planted foot
+//! stands on its ball (or its heel) alone, and every planted heel or toe stays where it is
+//! while it carries weight.
 
 use std::f64::consts::PI;
 
@@ -30,7 +37,7 @@ use super::motion::{
     Footfall, Height, Late, Layer, Motion, NEVER_AFTER, NEVER_BEFORE, Path, Progress, Window, on_frame, standing_knee,
 };
 use super::{FRAME_RATE_HZ, STANDING_PELVIS_M};
-use crate::anim::actor::{self, HIP_HALF_WIDTH_M};
+use crate::anim::actor::{self, FOOT_FORWARD_M, HIP_HALF_WIDTH_M};
 use crate::anim::clip::{Clip, mirror_pairs};
 
 /// Steps per turning clip of the default database.
@@ -164,6 +171,77 @@ fn start_motion(gait: &Gait) -> (Motion, f64) {
     (m.finish(0.0, t_r1), t_r1)
 }
 
+/// From standing (feet side by side under the hips) to the steady gait heading `turn_rad` from
+/// where it stood (positive to the left; the mirror clip turns to the right): the body pivots on
+/// the ball of the right foot while the left foot lifts and steps out in the new direction, then
+/// the right foot takes a full step; the clip ends on that right plant, whose pose is the steady
+/// gait's. Its first frame is the first frame of [`idle_clip`].
+pub fn turning_start_clip(gait: &Gait, turn_rad: f64, name: &str) -> Clip {
+    let (m, end) = turning_start_motion(gait, turn_rad.abs());
+    let clip = m.render(0.0, end, FRAME_RATE_HZ, name);
+    if turn_rad < 0.0 { clip.mirrored(&mirror_pairs(&actor::actor()), name.into()) } else { clip }
+}
+
+fn turning_start_motion(gait: &Gait, turn: f64) -> (Motion, f64) {
+    let (st, len, v, d) = (gait.step_time_s, gait.step_length_m(), gait.speed_mps, gait.strike_distance_m());
+    // The path runs along +X; the body stands turned by −turn and turns onto it.
+    let path = Path::straight();
+    let (_, side_0) = axes(-turn);
+    let swing = 2.0 * st * (1.0 - gait.duty_factor);
+    let lift = 0.36;
+    let t_l1 = on_frame(lift + swing + 0.1 * turn / (PI / 2.0));
+    let t_r1 = t_l1 + st;
+    let first = 0.5 * len;
+    // The pelvis starts moving at t0 and reaches the gait speed at the right plant, where it
+    // must be where the steady gait has it.
+    let ramp = 2.0 * (first + len - d) / v;
+    let t0 = t_r1 - ramp;
+    let progress = Progress { t0, s0: 0.0, v0: 0.0, v1: v, ramp };
+    let stand = standing_knee() - 0.01;
+    let ds = (2.0 * gait.duty_factor - 1.0).max(0.0) * st;
+    // The right heel rises just enough for the foot to turn about its ball.
+    let pivot = 0.22;
+    let turn_a = 0.22;
+    let mut r0 = Footfall::standing(
+        1,
+        -HIP_HALF_WIDTH_M * side_0,
+        -turn,
+        KeyCurve::open(&[
+            (0.0, stand),
+            (lift, stand),
+            (t_l1 - 0.1, gait.knee_mid_rad),
+            (t_l1, gait.knee_mid_rad + 0.3 * (gait.knee_toe_off_rad - gait.knee_mid_rad)),
+            (t_l1 + ds, gait.knee_toe_off_rad),
+        ]),
+        0.0,
+        t_l1 + ds,
+        Late::AtLeast(KeyCurve::open(&[(0.05, 0.0), (turn_a, pivot)])),
+    );
+    r0.swing_height = gait.swing_height_m;
+    let l0 = Footfall::standing(
+        0,
+        HIP_HALF_WIDTH_M * side_0,
+        -turn,
+        KeyCurve::constant(stand),
+        0.0,
+        lift,
+        Late::Pitch(KeyCurve::open(&[(0.08, 0.0), (lift, 0.55)])),
+    );
+    let l1 = Footfall::steady(gait, 0, path.beside(first, 1.0, gait.foot_offset_m), t_l1);
+    let r1 = Footfall::steady(gait, 1, path.beside(first + len, -1.0, gait.foot_offset_m), t_r1);
+    let l2 = Footfall::steady(gait, 0, path.beside(first + 2.0 * len, 1.0, gait.foot_offset_m), t_r1 + st);
+    let feet = vec![l0, r0, l1, r1, l2];
+    let mut windows =
+        vec![Window { t0: NEVER_BEFORE, t1: 0.2, height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)) }];
+    windows.extend(leg_windows(&feet, [2, 3, 4]));
+    let layers = vec![Layer::new(gait, t_l1, Ramp::new(0.15, t_r1, 0.0, 1.0))];
+    let mut m = Motion::new(path, progress, feet, windows, layers);
+    m.turn = KeyCurve::open(&[(turn_a, -turn), (t_l1 - 0.02, 0.0)]);
+    // The weight goes over the right foot before the left one lifts.
+    m.shift = KeyCurve::open(&[(0.0, 0.0), (0.3, -0.025), (t_l1, 0.0)]);
+    (m.finish(0.0, t_r1), t_r1)
+}
+
 /// From a left plant of the steady gait to standing in two steps: the right foot takes a half
 /// step, the left one closes beside it and the pelvis comes to rest over both. The first frame
 /// is the steady gait's left plant; the last one is the first frame of [`idle_clip`].
@@ -254,6 +332,220 @@ fn speed_change_motion(a: &Gait, b: &Gait) -> (Motion, f64) {
     ];
     let m = Motion::new(path, progress, feet, windows, layers);
     (m.finish(0.0, t_l2), t_l2)
+}
+
+/// How a turning stop turns: which foot the body pivots on, to which side, how far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TurningStop {
+    /// A spin turn to the left by 90°: the body pivots on the ball of the planted left foot
+    /// while the right leg swings around and lands beside it.
+    SpinLeft90,
+    /// A step turn to the right by 90°: the body pivots on the ball of the planted left foot
+    /// while the right foot steps out in the new direction, then the left foot closes beside it.
+    StepRight90,
+    /// A turn to the left by 180°: a spin turn on the left foot (90°), then a step turn on the
+    /// ball of the right foot (90°) while the left foot steps around behind it.
+    Left180,
+}
+
+impl TurningStop {
+    /// The heading change, radians (positive to the left).
+    pub fn turn_rad(self) -> f64 {
+        match self {
+            TurningStop::SpinLeft90 => PI / 2.0,
+            TurningStop::StepRight90 => -PI / 2.0,
+            TurningStop::Left180 => PI,
+        }
+    }
+
+    /// The clip name for `gait`; the mirror clip swaps `left` and `right`.
+    pub fn name(self, gait: &Gait) -> String {
+        let g = &gait.name;
+        match self {
+            TurningStop::SpinLeft90 => format!("{g}_stop_left90"),
+            TurningStop::StepRight90 => format!("{g}_stop_step_right90"),
+            TurningStop::Left180 => format!("{g}_stop_left180"),
+        }
+    }
+}
+
+/// From a left plant of the steady gait (a walk) to standing turned by `kind`'s angle: the body
+/// slows down over one or two steps while it pivots on the ball of a planted foot, and the feet
+/// end side by side. The first frame is the steady gait's left plant; the last one is the first
+/// frame of [`idle_clip`], turned.
+pub fn turning_stop_clip(gait: &Gait, kind: TurningStop) -> Clip {
+    let (m, end) = turning_stop_motion(gait, kind);
+    m.render(0.0, end, FRAME_RATE_HZ, &kind.name(gait))
+}
+
+/// The heading `yaw` as a unit vector and the one to its left.
+fn axes(yaw: f64) -> (DVec2, DVec2) {
+    let f = DVec2::from_angle(yaw);
+    (f, f.perp())
+}
+
+/// Where the ankle of a foot whose toe tip stays at `toe` stands (flat) with heading `yaw`.
+fn ankle_under_toe(toe: DVec2, yaw: f64) -> DVec2 {
+    toe - FOOT_FORWARD_M * DVec2::from_angle(yaw)
+}
+
+/// The steps of a turning stop: the body turns by `first` (radians, positive to the left) on
+/// the ball of the left foot while the right foot swings to land `ahead` metres in front of the
+/// turned left foot and a hip width to its right; with `second`, it then turns by that much on
+/// the ball of the right foot while the left foot swings — bending toward `via` (relative to
+/// the right foot's landing, in its frame) — to land beside it.
+struct StopPlan {
+    first: f64,
+    ahead: f64,
+    second: Option<(f64, Option<DVec2>)>,
+}
+
+impl TurningStop {
+    fn plan(self) -> StopPlan {
+        match self {
+            TurningStop::SpinLeft90 => StopPlan { first: PI / 2.0, ahead: 0.0, second: None },
+            TurningStop::StepRight90 => StopPlan { first: -PI / 4.0, ahead: 0.35, second: Some((-PI / 4.0, None)) },
+            // The left foot goes around behind the right heel, which swings the other way.
+            TurningStop::Left180 => {
+                StopPlan { first: PI / 2.0, ahead: 0.1, second: Some((PI / 2.0, Some(DVec2::new(-0.15, -0.1)))) }
+            }
+        }
+    }
+}
+
+/// How far behind the toe tip the pelvis stands over a foot pivoting on its ball, metres.
+const OVER_BALL_M: f64 = 0.12;
+
+/// A pelvis track on the ground as drift curves: through `keys` (time, point, velocity) by cubic
+/// Hermite pieces, standing still after the last key; before the first key, `before` (the
+/// pelvis moving at the first key's velocity).
+fn track(keys: &[(f64, DVec2, DVec2)], before: DVec2) -> [KeyCurve; 2] {
+    [0, 1].map(|i| {
+        let k: Vec<(f64, f64, f64)> = keys.iter().map(|&(t, p, v)| (t, p[i] - before[i], v[i])).collect();
+        KeyCurve::with_slopes(&k)
+    })
+}
+
+fn turning_stop_motion(gait: &Gait, kind: TurningStop) -> (Motion, f64) {
+    let plan = kind.plan();
+    let (st, len, v, d) = (gait.step_time_s, gait.step_length_m(), gait.speed_mps, gait.strike_distance_m());
+    let path = Path::straight();
+    let off = gait.foot_offset_m;
+    let stance = gait.stance_time_s();
+    let stand = standing_knee() - 0.01;
+    let landing = standing_knee() + 0.08;
+    let pivot = 0.3;
+    let w = 2.0 * HIP_HALF_WIDTH_M;
+    let hip = HIP_HALF_WIDTH_M;
+    // Step 1: the left heel strikes at the origin; its heel rises and the body pivots on its
+    // ball while the right foot swings.
+    let toe_l = DVec2::new(FOOT_FORWARD_M, off);
+    let (heel_up, turn_a) = (on_frame(0.45 * st), on_frame(0.6 * st));
+    let t_r1 = on_frame(1.3 * st);
+    let r_prev = Footfall::steady(gait, 1, path.beside(-len, -1.0, off), -st);
+    let mut l0 = Footfall::steady(gait, 0, DVec2::new(0.0, off), 0.0);
+    l0.t_release = l0.t_release.min(heel_up);
+    let left_1 = ankle_under_toe(toe_l, plan.first);
+    let (fwd_1, side_1) = axes(plan.first);
+    let right_1 = left_1 + plan.ahead * fwd_1 - w * side_1;
+    let mut r1 = Footfall::steady(gait, 1, right_1, t_r1);
+    r1.strike *= 0.7;
+    r1.swing_height = 0.8 * gait.swing_height_m;
+    r1.t_off = NEVER_AFTER;
+    let mut turn = vec![(turn_a, 0.0), (t_r1 - 0.02, plan.first)];
+    let mut feet = vec![r_prev];
+    // The pelvis: from the steady gait at the left plant through `keys` to standing.
+    let start = (0.0, DVec2::new(-d, 0.0), DVec2::new(v, 0.0));
+    let (end, keys) = if let Some((second, via)) = plan.second {
+        // Step 2: the right heel rises and the body pivots on its ball while the left foot
+        // swings to land beside it.
+        let t_off = on_frame(t_r1 + 0.25 * st);
+        let (heel_up2, turn_a2) = (on_frame(r1.t_flat + 0.05), on_frame(t_off + 0.1 * st));
+        let t_l2 = on_frame(t_off + 1.0 * st);
+        let end = on_frame(t_l2 + 0.45);
+        let toe_r = right_1 + FOOT_FORWARD_M * fwd_1;
+        let heading = plan.first + second;
+        let right_2 = ankle_under_toe(toe_r, heading);
+        let (_, side_2) = axes(heading);
+        let left_2 = right_2 + w * side_2;
+        l0.late = Late::AtLeast(KeyCurve::open(&[(heel_up, 0.0), (turn_a, pivot)]));
+        l0.t_off = t_off;
+        l0.knee = KeyCurve::open(&[
+            (0.0, gait.knee_strike_rad),
+            (0.2 * stance, gait.knee_load_rad),
+            (0.42 * stance, gait.knee_mid_rad),
+            (t_r1, gait.knee_mid_rad),
+            (t_off, gait.knee_toe_off_rad),
+        ]);
+        r1.late = Late::AtLeast(KeyCurve::open(&[
+            (heel_up2, 0.0),
+            (turn_a2, pivot),
+            (t_l2 + 0.05, pivot),
+            (t_l2 + 0.3, 0.0),
+        ]));
+        r1.t_release = heel_up2;
+        r1.knee = KeyCurve::open(&[
+            (t_r1, landing),
+            (t_r1 + 0.2 * stance, landing + 0.05),
+            (t_off, gait.knee_mid_rad),
+            (t_l2, gait.knee_mid_rad),
+            (end - 0.15, stand),
+        ]);
+        let mut l2 = Footfall::steady(gait, 0, left_2, t_l2);
+        l2.strike *= 0.5;
+        l2.swing_height = 0.7 * gait.swing_height_m;
+        l2.via = via.map(|p| right_1 + p.x * fwd_1 + p.y * side_1);
+        l2.t_off = NEVER_AFTER;
+        l2.knee = KeyCurve::open(&[(t_l2, landing), (t_l2 + 0.2 * stance, landing + 0.03), (end - 0.15, stand)]);
+        turn.extend([(turn_a2, plan.first), (t_l2 - 0.02, heading)]);
+        feet.extend([l0, r1, l2]);
+        // Over the ball of the right foot while it pivots, then back between the feet.
+        let turn_curve = KeyCurve::open(&turn);
+        let over = |t: f64| {
+            let (f, s) = axes(turn_curve.at(t));
+            toe_r - OVER_BALL_M * f + hip * s
+        };
+        let h = 1e-4;
+        let orbit = |t: f64| (t, over(t), (over(t + h) - over(t - h)) / (2.0 * h));
+        let mid = 0.5 * (turn_a2 + t_l2);
+        (end, vec![start, orbit(mid), (end - 0.1, left_2 - hip * side_2, DVec2::ZERO)])
+    } else {
+        let pelvis_end = left_1 - hip * side_1;
+        // Standing still once the left heel is down.
+        let end = on_frame((t_r1 + 0.45).max(r1.t_flat + 0.4));
+        l0.late = Late::AtLeast(KeyCurve::open(&[
+            (heel_up, 0.0),
+            (turn_a, pivot),
+            (r1.t_flat + 0.05, pivot),
+            (r1.t_flat + 0.3, 0.0),
+        ]));
+        l0.t_off = NEVER_AFTER;
+        l0.knee = KeyCurve::open(&[
+            (0.0, gait.knee_strike_rad),
+            (0.2 * stance, gait.knee_load_rad),
+            (0.42 * stance, gait.knee_mid_rad),
+            (t_r1, gait.knee_mid_rad),
+            (end - 0.15, stand),
+        ]);
+        r1.knee = KeyCurve::open(&[(t_r1, landing), (t_r1 + 0.2 * stance, landing + 0.05), (end - 0.15, stand)]);
+        feet.extend([l0, r1]);
+        (end, vec![start, (end - 0.1, pelvis_end, DVec2::ZERO)])
+    };
+    // The path only sets the pelvis moving before the clip; from the left plant on, the track
+    // takes it.
+    let progress = Progress { t0: 0.0, s0: -d, v0: v, v1: 0.0, ramp: 0.0 };
+    let mut windows = leg_windows(&feet, 1..feet.len());
+    windows.push(Window {
+        t0: end - 0.1,
+        t1: NEVER_AFTER,
+        height: Height::Level(KeyCurve::constant(STANDING_PELVIS_M)),
+    });
+    let layers = vec![Layer::new(gait, 0.0, Ramp::new(0.25 * st, end - 0.05, 1.0, 0.0))];
+    let mut m = Motion::new(path, progress, feet, windows, layers);
+    m.turn = KeyCurve::open(&turn);
+    m.ease = true;
+    m.drift = track(&keys, DVec2::new(-d, 0.0));
+    (m.finish(0.0, end), end)
 }
 
 /// Turning on the spot by `turn_rad` (positive to the left) from standing to standing: the
@@ -360,6 +652,11 @@ fn turn_set(gait: &Gait) -> (&'static [u32], usize) {
     }
 }
 
+/// `name` with `left` and `right` swapped: the name of its mirror clip.
+fn swap_sides(name: &str) -> String {
+    name.replace("left", "\u{0}").replace("right", "left").replace('\u{0}', "right")
+}
+
 /// One entry of the catalogue: how to make a clip and, when it has a side, its mirror's name.
 enum Entry {
     Straight(Gait),
@@ -367,6 +664,8 @@ enum Entry {
     Turn90(Gait, usize),
     Start(Gait),
     Stop(Gait),
+    TurningStart(Gait, u32),
+    TurningStop(Gait, TurningStop),
     Speed(Gait, Gait),
     Pivot(u32),
     Idle,
@@ -398,6 +697,14 @@ impl Entry {
             }
             Entry::Start(g) => (start_clip(g), Some(format!("{}_start_r", g.name))),
             Entry::Stop(g) => (stop_clip(g), Some(format!("{}_stop_r", g.name))),
+            Entry::TurningStart(g, deg) => {
+                let name = format!("{}_start_left{deg}", g.name);
+                (
+                    turning_start_clip(g, f64::from(*deg).to_radians(), &name),
+                    Some(format!("{}_start_right{deg}", g.name)),
+                )
+            }
+            Entry::TurningStop(g, k) => (turning_stop_clip(g, *k), Some(swap_sides(&k.name(g)))),
             Entry::Speed(a, b) => (speed_change_clip(a, b), Some(format!("{}_to_{}_r", a.name, b.name))),
             Entry::Pivot(deg) => {
                 let name = format!("pivot_left{deg}");
@@ -409,9 +716,9 @@ impl Entry {
 }
 
 /// The default animation database at 60 Hz (see the module documentation for the list): the
-/// five preset gaits straight and turning, their 90° turns, starts, stops and speed changes of
-/// the walks, pivot turns on the spot and the idle, each clip with a side followed by its
-/// mirror. Generated in parallel, deterministically (the order and content do not depend on the
+/// five preset gaits straight and turning, their 90° turns, starts, stops (straight and
+/// turning) and speed changes of the walks, pivot turns on the spot and the idle, each clip with
+/// a side followed by its mirror. Generated in parallel, deterministically (the order and content do not depend on the
 /// number of threads).
 pub fn default_clips() -> Vec<Clip> {
     let mut entries = Vec::new();
@@ -425,7 +732,13 @@ pub fn default_clips() -> Vec<Clip> {
     }
     for gait in [Gait::slow_walk(), Gait::walk()] {
         entries.push(Entry::Start(gait.clone()));
-        entries.push(Entry::Stop(gait));
+        entries.push(Entry::Stop(gait.clone()));
+        for deg in [45, 90] {
+            entries.push(Entry::TurningStart(gait.clone(), deg));
+        }
+        for k in [TurningStop::SpinLeft90, TurningStop::StepRight90, TurningStop::Left180] {
+            entries.push(Entry::TurningStop(gait.clone(), k));
+        }
     }
     entries.push(Entry::Speed(Gait::slow_walk(), Gait::walk()));
     entries.push(Entry::Speed(Gait::walk(), Gait::slow_walk()));
@@ -507,7 +820,7 @@ pub fn contact_params() -> crate::anim::db::ContactParams {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use glam::{DQuat, DVec3, EulerRot};
+    use glam::{DQuat, DVec2, DVec3, EulerRot};
 
     use super::*;
     use crate::anim::actor::{ANKLE_HEIGHT_M, HEEL_POINT};
@@ -936,7 +1249,14 @@ pub(crate) mod tests {
     #[test]
     fn rotations_use_only_the_actor_channels() {
         let s = actor::actor();
-        let clips = [locomotion(&Gait::run(), 0.3, 2, 60.0, "r"), start_clip(&Gait::walk()), pivot_clip(1.0, "p")];
+        let clips = [
+            locomotion(&Gait::run(), 0.3, 2, 60.0, "r"),
+            start_clip(&Gait::walk()),
+            pivot_clip(1.0, "p"),
+            turning_start_clip(&Gait::walk(), -1.2, "s"),
+            turning_stop_clip(&Gait::slow_walk(), TurningStop::Left180),
+            turning_stop_clip(&Gait::walk(), TurningStop::StepRight90),
+        ];
         for (i, joint) in s.joints().iter().enumerate() {
             let axes: Vec<Channel> = joint.channels.iter().copied().filter(|c| !c.is_position()).collect();
             let (order, used) = match axes.as_slice() {
@@ -959,6 +1279,191 @@ pub(crate) mod tests {
                 }
             }
         }
+    }
+
+    /// The turning starts and stops of walk `g`: name, where the first and the last frame are
+    /// ("idle": the idle's first pose; "left", "right": the steady gait's left or right plant)
+    /// and the turn, degrees.
+    fn turning_clips(g: &str) -> Vec<(String, &'static str, &'static str, f64)> {
+        vec![
+            (format!("{g}_stop_left90"), "left", "idle", 90.0),
+            (format!("{g}_stop_right90"), "right", "idle", -90.0),
+            (format!("{g}_stop_step_right90"), "left", "idle", -90.0),
+            (format!("{g}_stop_step_left90"), "right", "idle", 90.0),
+            (format!("{g}_stop_left180"), "left", "idle", 180.0),
+            (format!("{g}_stop_right180"), "right", "idle", -180.0),
+            (format!("{g}_start_left45"), "idle", "right", 45.0),
+            (format!("{g}_start_left90"), "idle", "right", 90.0),
+            (format!("{g}_start_right45"), "idle", "left", -45.0),
+            (format!("{g}_start_right90"), "idle", "left", -90.0),
+        ]
+    }
+
+    /// Touch-downs after the first frame: frames where a foot's heel or toe reaches the ground.
+    fn touch_downs(clip: &Clip) -> usize {
+        let on = grounded(clip);
+        on.windows(2).map(|w| (0..2).filter(|&i| w[1][i] && !w[0][i]).count()).sum()
+    }
+
+    #[test]
+    fn turning_starts_and_stops_join_their_neighbours_and_turn_as_named() {
+        let clips = default_clips();
+        let standing = &find(&clips, "idle").frames[0];
+        for g in ["slow_walk", "walk"] {
+            let steady = find(&clips, &format!("{g}_straight"));
+            let step = (steady.frames.len() - 1) / STRAIGHT_STEPS;
+            let pose = |at: &str| match at {
+                "idle" => standing,
+                "left" => &steady.frames[0],
+                _ => &steady.frames[step],
+            };
+            for (name, from, to, deg) in turning_clips(g) {
+                let c = find(&clips, &name);
+                let (first, last) = (&c.frames[0], c.frames.last().unwrap());
+                same_relative_pose(first, pose(from), 1e-6).map_err(|e| format!("{name} starts: {e}")).unwrap();
+                same_relative_pose(last, pose(to), 1e-6).map_err(|e| format!("{name} ends: {e}")).unwrap();
+                // Joined within 1e-6 means the pose relative to its ground reference; the
+                // ground references themselves turn by the named angle.
+                let total = turned(c).to_degrees();
+                let ends = wrap_angle(heading(last.rotations[0]) - heading(first.rotations[0])).to_degrees();
+                eprintln!("{name:<26} turns {total:8.3}° (ground reference {ends:8.3}°), {} frames", c.frames.len());
+                assert!((total - deg).abs() <= 1.0, "{name}: turned {total}°");
+                assert!(wrap_angle((ends - deg).to_radians()).abs() <= 1f64.to_radians(), "{name}: {ends}°");
+                // Stops take one or two steps after their plant; starts two.
+                let steps = touch_downs(c);
+                if from == "idle" {
+                    assert_eq!(steps, 2, "{name}");
+                } else {
+                    assert!((1..=2).contains(&steps), "{name}: {steps} steps");
+                }
+            }
+            let gait = if g == "walk" { Gait::walk() } else { Gait::slow_walk() };
+            for k in [TurningStop::SpinLeft90, TurningStop::StepRight90, TurningStop::Left180] {
+                let total = turned(find(&clips, &k.name(&gait)));
+                assert!((total - k.turn_rad()).abs() < 1e-6, "{k:?}: {total}");
+            }
+        }
+    }
+
+    #[test]
+    fn turning_starts_and_stops_turn_only_on_one_point_of_each_planted_foot() {
+        // The hips cannot twist: while the body turns, every foot on the ground stands on its
+        // heel or its toe alone, the other point well up.
+        let clips = default_clips();
+        for g in ["slow_walk", "walk"] {
+            for (name, ..) in turning_clips(g) {
+                let c = find(&clips, &name);
+                let p = sole_points(c);
+                let mut turning = 0;
+                for (j, w) in c.frames.windows(2).enumerate() {
+                    if wrap_angle(heading(w[1].rotations[0]) - heading(w[0].rotations[0])).abs() < 1e-9 {
+                        continue;
+                    }
+                    turning += 1;
+                    for q in [&p[j], &p[j + 1]] {
+                        for (i, foot) in q.iter().enumerate() {
+                            let (low, high) = (foot[0].z.min(foot[1].z), foot[0].z.max(foot[1].z));
+                            assert!(
+                                low > 1e-6 || high > 0.02,
+                                "{name} frame {j}: foot {i} flat while turning {foot:?}"
+                            );
+                        }
+                    }
+                }
+                assert!(turning > 10, "{name}");
+            }
+        }
+    }
+
+    #[test]
+    fn turning_starts_and_stops_move_like_a_person() {
+        let clips = default_clips();
+        for gait in [Gait::slow_walk(), Gait::walk()] {
+            for (name, ..) in turning_clips(&gait.name) {
+                let c = find(&clips, &name);
+                let dt = c.frame_time;
+                let v: Vec<DVec2> = c.frames.windows(2).map(|w| (w[1].root - w[0].root).truncate() / dt).collect();
+                let speed = v.iter().map(|v| v.length()).fold(0.0, f64::max);
+                let accel = v.windows(2).map(|w| (w[1] - w[0]).length() / dt).fold(0.0, f64::max);
+                let yaw_rate = c
+                    .frames
+                    .windows(2)
+                    .map(|w| wrap_angle(heading(w[1].rotations[0]) - heading(w[0].rotations[0])).abs() / dt)
+                    .fold(0.0, f64::max)
+                    .to_degrees();
+                let z = heights(c);
+                let (lo, hi) = (z.iter().cloned().fold(9.0, f64::min), z.iter().cloned().fold(0.0, f64::max));
+                // Touch-down and lift-off: the touching point's horizontal over vertical motion
+                // in the four frames before it touches down and after it lifts off.
+                let p = sole_points(c);
+                let on = grounded(c);
+                let mut steep: f64 = 0.0;
+                for i in 0..2 {
+                    for j in 4..p.len() - 4 {
+                        for (near, far) in [(j - 1, j - 4), (j + 1, j + 4)] {
+                            if on[j][i] && !on[near][i] {
+                                let k = if p[j][i][0].z < 1e-3 { 0 } else { 1 };
+                                let (a, b) = (p[far][i][k], p[j][i][k]);
+                                steep = steep.max((b - a).truncate().length() / (a.z - b.z).abs().max(1e-6));
+                            }
+                        }
+                    }
+                }
+                // Feet pass each other without touching.
+                let apart = p
+                    .iter()
+                    .map(|q| {
+                        segment_distance(
+                            [q[0][0].truncate(), q[0][1].truncate()],
+                            [q[1][0].truncate(), q[1][1].truncate()],
+                        )
+                    })
+                    .fold(9.0, f64::min);
+                eprintln!(
+                    "{name:<26} pelvis up to {speed:.2} m/s, {accel:.2} m/s², {lo:.3}–{hi:.3} m; turning up to {yaw_rate:.0}°/s; feet {apart:.3} m apart; touch-down and lift-off {steep:.2} horizontal per vertical"
+                );
+                assert!(speed <= 1.02 * gait.speed_mps, "{name}: {speed} m/s");
+                assert!(accel <= 4.0, "{name}: {accel} m/s²");
+                assert!(yaw_rate <= 450.0, "{name}: {yaw_rate}°/s");
+                assert!(lo >= STANDING_PELVIS_M - 0.04 && hi <= STANDING_PELVIS_M + 0.01, "{name}: {lo}–{hi} m");
+                assert!(steep <= 0.5, "{name}: touch-down or lift-off {steep}");
+                assert!(apart >= 0.06, "{name}: feet {apart} m apart");
+            }
+        }
+    }
+
+    /// Shortest distance between two segments in the plane (that do not cross).
+    fn segment_distance(a: [DVec2; 2], b: [DVec2; 2]) -> f64 {
+        let to = |p: DVec2, s: [DVec2; 2]| {
+            let d = s[1] - s[0];
+            let u = ((p - s[0]).dot(d) / d.length_squared().max(1e-12)).clamp(0.0, 1.0);
+            (s[0] + u * d - p).length()
+        };
+        to(a[0], b).min(to(a[1], b)).min(to(b[0], a)).min(to(b[1], a))
+    }
+
+    #[test]
+    fn turning_starts_and_stops_are_cut_at_their_foot_plants() {
+        let clips = default_clips();
+        let intervals = default_intervals(&clips);
+        for g in ["slow_walk", "walk"] {
+            for (name, ..) in turning_clips(g) {
+                let c = find(&clips, &name);
+                let mine: Vec<_> = intervals.iter().filter(|i| i.clip == name).collect();
+                assert!(mine.len() >= 2, "{name}: {} intervals", mine.len());
+                assert_eq!((mine[0].start, mine[mine.len() - 1].end), (0, c.frames.len() - 1), "{name}");
+                assert!(mine.windows(2).all(|w| w[0].end == w[1].start), "{name}");
+                // Every cut is a frame where a foot has just come down (or both stand).
+                let on = grounded(c);
+                for iv in &mine[1..] {
+                    let j = iv.start;
+                    assert!((0..2).any(|i| on[j][i] && !on[j - 1][i]) || on[j][0] && on[j][1], "{name} cut at {j}");
+                }
+            }
+        }
+        let db = default_database().unwrap();
+        assert_eq!(db.clips.len(), clips.len());
+        assert_eq!(db.intervals.len(), intervals.len());
     }
 
     #[test]

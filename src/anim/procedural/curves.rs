@@ -35,6 +35,23 @@ impl KeyCurve {
         KeyCurve::build(k, false)
     }
 
+    /// A curve over `[first key, last key]` through `keys` (parameter, value, slope; sorted by
+    /// parameter, keys with a parameter not above the previous one dropped) with the given
+    /// slopes, constant outside.
+    pub(crate) fn with_slopes(keys: &[(f64, f64, f64)]) -> KeyCurve {
+        let mut k: Vec<(f64, f64, f64)> = Vec::with_capacity(keys.len());
+        for &key in keys {
+            if k.last().is_none_or(|l: &(f64, f64, f64)| key.0 > l.0) {
+                k.push(key);
+            }
+        }
+        KeyCurve {
+            keys: k.iter().map(|&(p, v, _)| (p, v)).collect(),
+            tangents: k.iter().map(|&(_, _, d)| d).collect(),
+            periodic: false,
+        }
+    }
+
     /// A constant.
     pub(crate) fn constant(v: f64) -> KeyCurve {
         KeyCurve::open(&[(0.0, v)])
@@ -178,6 +195,12 @@ mod tests {
         // Repeated parameters are dropped; a single key is a constant.
         let d = KeyCurve::open(&[(0.0, 1.0), (0.0, 5.0), (1.0, 2.0)]);
         assert_eq!((d.at(0.0), d.at(1.0)), (1.0, 2.0));
+        // Given slopes are kept.
+        let s = KeyCurve::with_slopes(&[(0.0, 0.0, 2.0), (1.0, 1.0, -1.0), (2.0, 0.5, 0.0)]);
+        let h = 1e-7;
+        assert!((s.at(1.0) - 1.0).abs() < 1e-12 && ((s.at(h) - s.at(0.0)) / h - 2.0).abs() < 1e-5);
+        assert!(((s.at(1.0 + h) - s.at(1.0 - h)) / (2.0 * h) + 1.0).abs() < 1e-5);
+        assert_eq!((s.at(-1.0), s.at(3.0)), (0.0, 0.5));
         assert_eq!(KeyCurve::constant(3.0).at(-7.0), 3.0);
     }
 

@@ -27,7 +27,13 @@
 //! The swing foot goes from the toe's lift-off point to the next heel strike along a cubic
 //! Bezier curve in the sagittal plane of its step (progress, height) whose two inner control
 //! points are raised, straight above its ends so that lift-off and touch-down are vertical; on
-//! the ground the step bends outward around the stance foot when needed.
+//! the ground the step bends outward around the stance foot when needed, or toward a chosen
+//! point (to step around the other foot on a chosen side).
+//!
+//! Turning starts and stops pivot on the ball of a foot: its heel is raised on purpose (at
+//! least a prescribed pitch) so the body can turn about its toe, the pelvis leaves its path to
+//! follow the feet (a drift over time), and the heading eases in and out of each turn the feet
+//! allow.
 
 use glam::{DQuat, DVec2, DVec3};
 
@@ -172,6 +178,9 @@ pub(crate) enum Late {
     Solve,
     /// A prescribed toes-down pitch over time, radians.
     Pitch(KeyCurve),
+    /// At least the prescribed pitch (radians), more where the knee needs it as with
+    /// [`Late::Solve`]: a heel raised on purpose, to pivot on the ball of the foot.
+    AtLeast(KeyCurve),
 }
 
 /// One stay of a foot on the ground.
@@ -200,6 +209,10 @@ pub(crate) struct Footfall {
     pub swing_height: f64,
     /// Heading of the foot once flat, radians (computed from the pelvis heading unless set).
     pub yaw_flat: Option<f64>,
+    /// A ground point the swing ending on this footfall bends toward (the control point of its
+    /// quadratic curve on the ground), to go around the other foot on a chosen side; `None`:
+    /// straight, bending away from the stance foot only when it passes too close.
+    pub via: Option<DVec2>,
     /// When the heel is high enough for the foot to turn about its toe, seconds.
     t_pivot: f64,
 }
@@ -228,6 +241,7 @@ impl Footfall {
             late,
             swing_height: 0.1,
             yaw_flat: Some(yaw),
+            via: None,
             t_pivot: NEVER_AFTER,
         }
     }
@@ -263,6 +277,7 @@ impl Footfall {
             late: Late::Solve,
             swing_height: g.swing_height_m,
             yaw_flat: None,
+            via: None,
             t_pivot: NEVER_AFTER,
         }
     }
@@ -400,9 +415,15 @@ pub(crate) struct Motion {
     pub shift: KeyCurve,
     /// Extra forward lean of the waist over time (breathing), radians.
     pub lean: KeyCurve,
+    /// Extra displacement of the pelvis over time along the world X and Y axes, metres: where
+    /// the pelvis leaves its path (settling between feet placed off the path).
+    pub drift: [KeyCurve; 2],
     pub feet: Vec<Footfall>,
     pub windows: Vec<Window>,
     pub layers: Vec<Layer>,
+    /// Whether the heading eases in and out of each turn the feet let it make (a smoothstep of
+    /// the turn's progress) rather than turning at a steady rate while they let it.
+    pub ease: bool,
     yaw: Option<YawTable>,
 }
 
@@ -420,9 +441,11 @@ impl Motion {
             turn: KeyCurve::constant(0.0),
             shift: KeyCurve::constant(0.0),
             lean: KeyCurve::constant(0.0),
+            drift: [KeyCurve::constant(0.0), KeyCurve::constant(0.0)],
             feet,
             windows,
             layers,
+            ease: false,
             yaw: None,
         }
     }
@@ -445,7 +468,12 @@ impl Motion {
         let x = (t - table.t0) / YAW_DT;
         let j = (x.floor() as usize).min(table.cum.len() - 2);
         let c = table.cum[j] + (x - j as f64) * (table.cum[j + 1] - table.cum[j]);
-        let f = if c1 - c0 > 1e-9 { ((c - c0) / (c1 - c0)).clamp(0.0, 1.0) } else { smoothstep((t - t0) / (t1 - t0)) };
+        let f = if c1 - c0 > 1e-9 {
+            let f = ((c - c0) / (c1 - c0)).clamp(0.0, 1.0);
+            if self.ease { smoothstep(f) } else { f }
+        } else {
+            smoothstep((t - t0) / (t1 - t0))
+        };
         h0 + (h1 - h0) * f
     }
 
@@ -536,7 +564,8 @@ impl Motion {
             })
             .sum::<f64>()
             + self.shift.at(t);
-        (p + sway * DVec2::from_angle(yaw).perp(), yaw)
+        let drift = DVec2::new(self.drift[0].at(t), self.drift[1].at(t));
+        (p + drift + sway * DVec2::from_angle(yaw).perp(), yaw)
     }
 
     fn hip(&self, side: usize, pelvis: (DVec2, f64), z: f64) -> DVec3 {
@@ -559,13 +588,19 @@ impl Motion {
         let f = &self.feet[k];
         match &f.late {
             Late::Pitch(c) => c.at(t).clamp(0.0, MAX_PITCH_RAD),
-            Late::Solve => {
-                let pelvis = self.pelvis(t);
-                let hip = self.hip(f.side, pelvis, self.pelvis_height(t));
-                let reach = reach_of_knee(f.knee.at(t)).min(MAX_REACH_M);
-                pitch_for_reach(hip, self.toe_point(k), pelvis.1, reach, MAX_PITCH_RAD)
-            }
+            Late::Solve => self.solved_pitch(k, t),
+            Late::AtLeast(c) => c.at(t).clamp(0.0, MAX_PITCH_RAD).max(self.solved_pitch(k, t)),
         }
+    }
+
+    /// The pitch of planted footfall `k` on its toe at which its knee follows its knee curve,
+    /// radians.
+    fn solved_pitch(&self, k: usize, t: f64) -> f64 {
+        let f = &self.feet[k];
+        let pelvis = self.pelvis(t);
+        let hip = self.hip(f.side, pelvis, self.pelvis_height(t));
+        let reach = reach_of_knee(f.knee.at(t)).min(MAX_REACH_M);
+        pitch_for_reach(hip, self.toe_point(k), pelvis.1, reach, MAX_PITCH_RAD)
     }
 
     /// Where planted footfall `k` is at `t`.
@@ -639,8 +674,8 @@ impl Motion {
         let mid_t = 0.5 * (a.t_off + b.t_on);
         let other = self.feet.iter().find(|f| f.side != a.side && f.planted(mid_t));
         let (g0, g3) = (p0.truncate(), p3.truncate());
-        let mut m = 0.5 * (g0 + g3);
-        if let Some(o) = other {
+        let mut m = b.via.unwrap_or(0.5 * (g0 + g3));
+        if let (None, Some(o)) = (b.via, other) {
             let dir = (g3 - g0).normalize_or_zero();
             let rel = o.ground - g0;
             let along = rel.dot(dir).clamp(0.0, (g3 - g0).length());
