@@ -10,6 +10,7 @@ pub mod animated;
 pub mod body;
 pub mod controller;
 pub mod follow;
+pub mod memory;
 
 use glam::DVec2;
 
@@ -17,6 +18,7 @@ pub use animated::{AnimatedBody, Animation, AnimationHandle, Tracking, TrackingF
 pub use body::{Body, Command, DiscLimits, KinematicDisc, OpenSpace, Space, StepOutcome};
 
 pub use controller::{ControllerParams, FollowState, LayeredController, Mode, NavInputs, Side, within_reach};
+pub use memory::{Memory, MemoryParams};
 
 use crate::world::{SectorLayout, Sensed, Task, World};
 
@@ -34,6 +36,8 @@ pub struct StepParameters {
     /// Limits of each agent's disc body (see [`DiscLimits`]); the radius applies to animated
     /// bodies too.
     pub limits: DiscLimits,
+    /// What agents remember of what they sense (see [`MemoryParams`]).
+    pub memory: MemoryParams,
     /// When set, agents are animated characters driven by this database and policy instead of
     /// kinematic discs (none).
     pub animation: Option<AnimationHandle>,
@@ -47,6 +51,7 @@ impl Default for StepParameters {
             scan_every: 4,
             layout: SectorLayout::three(),
             limits: DiscLimits::default(),
+            memory: MemoryParams::default(),
             animation: None,
         }
     }
@@ -106,9 +111,16 @@ pub struct Agent {
     pub manual: Option<Command>,
     /// What the controller commanded at the last step (equal to `command` unless `manual`).
     pub autopilot: Command,
-    /// Direction the agent heads for to approach the goal (absolute, radians): the goal
-    /// itself when the way is open, else the most promising free direction of the scan.
+    /// What the agent remembers of what it has sensed, and its way to the goal over it.
+    pub memory: Memory,
+    /// Direction the agent heads for to approach the goal (absolute, radians): toward the
+    /// waypoint of the way it remembers, else (no way known) the goal itself when the way is
+    /// open or the most promising free direction of the scan.
     pub heading_to_goal: f64,
+    /// Length of the remembered way to the goal, metres (infinite when none is known).
+    pub route_m: f64,
+    /// Distance to the waypoint goal seeking steers at (infinite when heading for the goal).
+    pub aim_m: f64,
     /// Closest approach to the goal reachable in a straight line from the last scan, metres.
     pub reachable_goal_distance: f64,
     /// Distance from the goal to the nearest obstacle point the last scan saw, metres.
@@ -258,7 +270,10 @@ impl Simulation {
             outcome: None,
             manual: None,
             autopilot: Command::default(),
+            memory: Memory::new(task.start.position, task.goal, self.params.limits.radius, self.params.memory),
             heading_to_goal: 0.0,
+            route_m: f64::INFINITY,
+            aim_m: f64::INFINITY,
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
             scan: Vec::new(),
@@ -315,12 +330,23 @@ impl Simulation {
                 );
                 (agent.heading_to_goal, agent.reachable_goal_distance) =
                     heading_to_goal(&agent.scan, pose.position, agent.task.goal, radius, self.params.layout.range);
+                agent.memory.observe(pose.position, &agent.scan, radius, self.params.layout.range);
+                agent.route_m = f64::INFINITY;
+                agent.aim_m = f64::INFINITY;
+                if let Some(aim) = agent.memory.heading(pose.position) {
+                    agent.heading_to_goal = aim.heading;
+                    agent.route_m = aim.remaining_m;
+                    agent.aim_m = aim.waypoint_m;
+                }
                 agent.obstacle_goal_distance =
                     obstacle_goal_distance(&agent.scan, pose.position, agent.task.goal, radius, FOLLOWED_REACH_M);
             }
             agent.sensed.scan.clone_from(&agent.scan);
             agent.sensed.reachable_goal_distance = agent.reachable_goal_distance;
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
+            agent.sensed.route_distance = agent.route_m;
+            agent.sensed.aim_distance = agent.aim_m;
+            agent.sensed.known_obstacles = agent.memory.known();
             agent.sensed.goal_angle = crate::geom::wrap_angle(agent.heading_to_goal - pose.yaw);
             agent.autopilot = agent.controller.command(&agent.sensed, visible, t, &agent.body);
             agent.command = agent.manual.unwrap_or(agent.autopilot);

@@ -209,8 +209,15 @@ struct Scripted {
 }
 
 impl Chooser for Scripted {
+    /// A fixed scramble of the candidates, skipping those whose start cannot reach the feet
+    /// planted now (as the character's own chooser does).
     fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize {
-        let c = (self.k * 7 + 3) % db.candidates[at.ending].len();
+        let n = db.candidates[at.ending].len();
+        let first = (self.k * 7 + 3) % n;
+        let c = (0..n)
+            .map(|j| (first + j) % n)
+            .find(|&c| at.reach_gap(db, c) <= strider::sim::animated::LOCK_REACH_M)
+            .unwrap_or(first);
         self.k += 1;
         let mut path = Vec::new();
         at.path(db, c, &mut path);

@@ -66,11 +66,14 @@ pub struct NavInputs {
     /// Angle from the heading to the boundary follower's direction, degrees, positive toward
     /// the followed wall.
     pub follow_angle: f64,
+    /// Free distance of the disc's corridor (with the margin) toward the goal or the way to it,
+    /// metres; the sensing range when the goal itself is reachable.
+    pub way: f64,
 }
 
 impl NavInputs {
     /// The input names the rules may read, in field order.
-    pub const NAMES: [&'static str; 10] = [
+    pub const NAMES: [&'static str; 11] = [
         "front",
         "left",
         "right",
@@ -81,6 +84,7 @@ impl NavInputs {
         "wall",
         "wall_bearing",
         "follow_angle",
+        "way",
     ];
 
     /// The value named `NAMES[field]`.
@@ -96,6 +100,7 @@ impl NavInputs {
             self.wall,
             self.wall_bearing,
             self.follow_angle,
+            self.way,
         ][field]
     }
 }
@@ -133,6 +138,8 @@ pub struct ControllerParams {
     /// Goal seeking steers toward the goal alone (no avoidance) while nothing is nearer than
     /// this, metres (1.0).
     pub open_m: f64,
+    /// Room the corridors `front` and `way` keep from obstacles, metres (0.05).
+    pub margin_m: f64,
 }
 
 impl Default for ControllerParams {
@@ -149,8 +156,15 @@ impl Default for ControllerParams {
             hit_radius_m: 1.0,
             turning_rad: 60f64.to_radians(),
             open_m: 1.0,
+            margin_m: 0.05,
         }
     }
+}
+
+/// How far the agent still has to go: along the remembered way when there is one, else
+/// straight to the goal, metres.
+fn to_go(s: &Sensed) -> f64 {
+    if s.route_distance.is_finite() { s.route_distance } else { s.goal_distance }
 }
 
 /// Which side the followed boundary is on.
@@ -167,7 +181,7 @@ pub enum Side {
 pub struct FollowState {
     /// Side of the obstacle.
     pub side: Side,
-    /// Distance to the goal when following started, metres.
+    /// Distance still to go (along the remembered way, else straight) when following started, metres.
     pub entry_distance_m: f64,
     /// Simulation time when following started (on this side), seconds.
     pub since_s: f64,
@@ -217,6 +231,8 @@ pub struct LayeredController {
     last_side: Option<Side>,
     best_ever: f64,
     hits: Vec<Hit>,
+    /// `Sensed::known_obstacles` at the last step.
+    known: usize,
 }
 
 /// Where boundary following started, on which side, and the best goal distance by then.
@@ -264,6 +280,7 @@ impl LayeredController {
             last_side: None,
             best_ever: f64::INFINITY,
             hits: Vec::new(),
+            known: 0,
         })
     }
 
@@ -277,6 +294,7 @@ impl LayeredController {
         self.last_side = None;
         self.best_ever = f64::INFINITY;
         self.hits.clear();
+        self.known = 0;
     }
 
     /// The current mode.
@@ -298,8 +316,16 @@ impl LayeredController {
     /// `goal_visible` says whether the straight way to the goal is free.
     pub fn command(&mut self, s: &Sensed, goal_visible: bool, t_s: f64, body: &dyn Body) -> Command {
         let p = self.params;
-        if s.goal_distance < self.best_distance - p.progress_m || self.best_distance.is_infinite() {
-            self.best_distance = s.goal_distance;
+        // Progress is measured along the remembered way when there is one (walking away from
+        // the goal toward a door is progress), else straight to the goal. Seeing an obstacle
+        // never seen before is progress too: the way is planned again over it, and a finite
+        // world has finitely many to see (the completeness of planning with the free-space
+        // assumption), so only an agent that learns nothing and gets no closer is stalled.
+        let to_go = to_go(s);
+        let learnt = s.known_obstacles > self.known;
+        self.known = s.known_obstacles;
+        if learnt || to_go < self.best_distance - p.progress_m || self.best_distance.is_infinite() {
+            self.best_distance = to_go;
             self.last_progress_s = t_s;
         } else if self.mode == Mode::Seek && s.goal_angle.abs() > p.turning_rad {
             // Still turning toward the way to the goal: no progress is expected yet, so the
@@ -311,10 +337,19 @@ impl LayeredController {
         let (left, right) = (s.sectors[2], s.sectors[0]);
         // Ahead, what matters is the corridor the disc sweeps (so that it can pass doors
         // barely wider than itself), not the nearest point of a wide sector.
-        let front = swept_ahead(&s.scan, s.heading, s.radius, s.range).unwrap_or(s.sectors[1]);
+        let front = swept_ahead(&s.scan, s.heading, s.radius, p.margin_m, s.range).unwrap_or(s.sectors[1]);
+        // Free up to the point steered at (a waypoint of the remembered way, or the goal) is
+        // as good as free to the end of the range.
+        let aim = s.aim_distance.min(s.goal_distance).min(s.range);
+        let (way, clear_to_aim) = match swept_ahead(&s.scan, s.heading + s.goal_angle, s.radius, p.margin_m, s.range) {
+            Some(free) if free < aim => (free, false),
+            _ => (s.range, true),
+        };
         let mut followed: Option<(Side, Option<FollowStep>)> = None;
         self.mode = match self.mode {
-            Mode::Seek if t_s - self.last_progress_s > p.stall_time_s => Mode::Follow(self.start_following(s, t_s)),
+            Mode::Seek if t_s - self.last_progress_s > p.stall_time_s && !s.route_distance.is_finite() => {
+                Mode::Follow(self.start_following(s, t_s))
+            }
             Mode::Seek => Mode::Seek,
             Mode::Follow(f) => {
                 let step = follow_direction(&s.scan, s.heading, f.side, s.radius, s.range, &p.follow);
@@ -353,16 +388,18 @@ impl LayeredController {
             wall: s.nearest,
             wall_bearing: mirror(bearing),
             follow_angle,
+            way,
         };
         for (dst, &slot) in self.inputs.iter_mut().zip(&self.slots) {
             *dst = nav.get(slot);
         }
         self.network.process(&self.inputs);
         let out = |k: usize| Some(self.network.output_at(self.outputs[k])).filter(|v| v.is_finite()).unwrap_or(0.0);
-        // The direction steered toward: the follower's; when seeking with nothing near (the
-        // turn is goal seeking's alone), the goal or the way toward it.
+        // The direction steered toward: the follower's; when seeking with nothing near or
+        // with the way clear up to the point aimed at (the turn is goal seeking's), the goal or
+        // the way toward it.
         let toward = match side {
-            None => (s.nearest >= p.open_m).then_some(s.heading + s.goal_angle),
+            None => (s.nearest >= p.open_m || clear_to_aim).then_some(s.heading + s.goal_angle),
             Some(_) => follow.map(|f| f.direction),
         };
         let (speed, turn_deg) = match side {
@@ -401,7 +438,7 @@ impl LayeredController {
         self.follows += 1;
         FollowState {
             side,
-            entry_distance_m: s.goal_distance,
+            entry_distance_m: to_go(s),
             since_s: t_s,
             followed_min_m: s.obstacle_goal_distance.min(s.goal_distance),
             wall_seen_s: t_s,
@@ -446,10 +483,12 @@ impl LayeredController {
         };
         let wall_seen_s = if seen { t_s } else { f.wall_seen_s };
         let entry = if f.strict { f.entry_distance_m.min(f.best_ever_m) } else { f.entry_distance_m };
-        let closer = s.goal_distance < entry - p.leave_margin_m && goal_visible;
+        // Closer along the remembered way than at the start (or, with none, straight to a
+        // visible goal).
+        let closer = to_go(s) < entry - p.leave_margin_m && (goal_visible || s.route_distance.is_finite());
         if closer || reachable || t_s - wall_seen_s > p.wall_lost_s {
             self.last_progress_s = t_s;
-            self.best_distance = s.goal_distance;
+            self.best_distance = to_go(s);
             Mode::Seek
         } else if t_s - f.since_s > p.max_follow_s || back_at_hit {
             Mode::Follow(FollowState {

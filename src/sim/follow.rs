@@ -101,18 +101,35 @@ pub fn follow_direction(
     })
 }
 
-/// How far the agent's disc could travel straight along `heading` (absolute, radians) by the
-/// all-around `scan`: the smaller swept free distance of the two rays around the heading,
-/// metres; `None` for an empty scan.
-pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, range: f64) -> Option<f64> {
+/// How far the agent's disc, kept `clearance` metres off every obstacle, could travel straight
+/// along `heading` (absolute, radians) by the all-around `scan`: the smaller swept free
+/// distance of the two rays around the heading, metres; `None` for an empty scan.
+pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, clearance: f64, range: f64) -> Option<f64> {
     let n = scan.len();
     if n == 0 {
         return None;
     }
-    let free = super::swept_free(scan, radius, range);
-    let x = heading.rem_euclid(std::f64::consts::TAU) / (std::f64::consts::TAU / n as f64);
-    let lo = (x.floor() as usize) % n;
-    Some(free[lo].min(free[(lo + 1) % n]))
+    let step = std::f64::consts::TAU / n as f64;
+    let lo = ((heading.rem_euclid(std::f64::consts::TAU) / step).floor() as usize) % n;
+    let grown = radius + clearance;
+    // One ray of [`super::swept_free`] for the grown disc (obstacle points stay where the
+    // scan saw them).
+    let along_ray = |i: usize| {
+        let mut free = scan[i];
+        for (j, &f) in scan.iter().enumerate() {
+            if f >= range {
+                continue;
+            }
+            let t = f + radius;
+            let a = step * ((j + n - i) % n) as f64;
+            let (along, perp) = (t * a.cos(), t * a.sin());
+            if along > 0.0 && perp.abs() < grown {
+                free = free.min((along - (grown * grown - perp * perp).sqrt()).max(0.0));
+            }
+        }
+        free
+    };
+    Some(along_ray(lo).min(along_ray((lo + 1) % n)))
 }
 
 #[cfg(test)]

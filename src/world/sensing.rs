@@ -58,6 +58,16 @@ pub struct Sensed {
     /// Distance from the goal to the nearest obstacle point seen around the agent, metres
     /// (infinite when none is in range).
     pub obstacle_goal_distance: f64,
+    /// Length of the way to the goal the agent remembers, metres (infinite when none is
+    /// known); filled by the simulation.
+    pub route_distance: f64,
+    /// Distance to the point goal seeking steers at: the next waypoint of the remembered way,
+    /// or the goal itself (infinite when the simulation gives none: the goal then); filled by
+    /// the simulation.
+    pub aim_distance: f64,
+    /// How many distinct obstacle places the agent has seen so far (grows when it sees
+    /// something new); filled by the simulation.
+    pub known_obstacles: usize,
     /// Centre of the agent's disc, metres.
     pub position: DVec2,
     /// The goal point, metres.
@@ -151,6 +161,8 @@ impl World {
         out.radius = radius;
         out.range = layout.range;
         out.goal_distance = position.distance(goal);
+        out.route_distance = f64::INFINITY;
+        out.aim_distance = f64::INFINITY;
         out.goal_angle = if out.goal_distance > 0.0 { wrap_angle((goal - position).to_angle() - heading) } else { 0.0 };
     }
 }
