@@ -107,13 +107,27 @@ pub struct DiscLimits {
     pub max_acceleration: f64,
     /// Largest speed decrease per second, m/s² (4.0).
     pub max_deceleration: f64,
+    /// Room kept from obstacles and other agents: a step may not end closer than this, or
+    /// than the disc already is when it is closer, metres (0.03).
+    pub keep_m: f64,
 }
 
 impl Default for DiscLimits {
     fn default() -> Self {
-        DiscLimits { radius: 0.3, max_speed: 1.5, max_turn_rate: 2.5, max_acceleration: 2.0, max_deceleration: 4.0 }
+        DiscLimits {
+            radius: 0.3,
+            max_speed: 1.5,
+            max_turn_rate: 2.5,
+            max_acceleration: 2.0,
+            max_deceleration: 4.0,
+            keep_m: 0.03,
+        }
     }
 }
+
+/// Give of the room check, so that moving along a wall at a constant distance is not refused
+/// for rounding, metres.
+const KEEP_TOLERANCE_M: f64 = 1e-6;
 
 /// A disc that turns and accelerates within limits.
 #[derive(Debug, Clone, PartialEq)]
@@ -149,9 +163,13 @@ impl Body for KinematicDisc {
     }
 
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
-        let radius = self.limits.radius;
-        let free = &mut |p: DVec2| is_free(space, p, radius);
         let l = self.limits;
+        // The room to keep: the margin, or what there is now when less (so a disc that stands
+        // closer can still move along or away, never nearer).
+        let want = l.radius + l.keep_m.max(0.0);
+        let now = space.clearance(self.pose.position, want + 1e-9);
+        let need = now.min(want).max(l.radius) - KEEP_TOLERANCE_M;
+        let free = &mut |p: DVec2| space.clearance(p, need + 1e-9) >= need.max(l.radius);
         let turn = if command.turn_rate.is_finite() { command.turn_rate } else { 0.0 };
         let target = if command.speed.is_finite() { command.speed.clamp(0.0, l.max_speed) } else { 0.0 };
         self.pose.yaw = crate::geom::wrap_angle(self.pose.yaw + turn.clamp(-l.max_turn_rate, l.max_turn_rate) * dt);
@@ -236,5 +254,40 @@ mod tests {
         assert!(out.blocked);
         assert_eq!(d.pose().position, before);
         assert_eq!(d.speed(), 0.0);
+    }
+
+    /// A wall along x = 1.
+    struct WallAt1;
+    impl Space for WallAt1 {
+        fn clearance(&mut self, p: DVec2, max: f64) -> f64 {
+            (1.0 - p.x).clamp(0.0, max)
+        }
+        fn segment_clearance(&mut self, a: DVec2, b: DVec2, max: f64) -> f64 {
+            (1.0 - a.x.max(b.x)).clamp(0.0, max)
+        }
+        fn changes(&self) -> bool {
+            false
+        }
+    }
+
+    #[test]
+    fn the_disc_keeps_its_room_from_walls() {
+        let limits = DiscLimits::default();
+        // Driven at a wall: it stops the margin short of touching it.
+        let mut d = KinematicDisc::new(Pose { position: DVec2::ZERO, yaw: 0.2 }, limits);
+        let mut closest = f64::INFINITY;
+        for _ in 0..200 {
+            d.step(Command { turn_rate: 0.0, speed: 1.0, toward: None }, 0.05, &mut WallAt1);
+            closest = closest.min(1.0 - d.pose().position.x - limits.radius);
+        }
+        assert!(closest >= limits.keep_m - 1e-5 && closest < limits.keep_m + 0.02, "{closest}");
+        // Starting closer than the margin, it can go along the wall but never nearer.
+        let x0 = 1.0 - limits.radius - 0.01;
+        let mut d = KinematicDisc::new(Pose { position: DVec2::new(x0, 0.0), yaw: 1.4 }, limits);
+        for _ in 0..100 {
+            d.step(Command { turn_rate: 0.0, speed: 1.0, toward: None }, 0.05, &mut WallAt1);
+            assert!(d.pose().position.x <= x0 + 1e-5, "{:?}", d.pose());
+        }
+        assert!(d.pose().position.y > 0.5, "{:?}", d.pose());
     }
 }

@@ -4,10 +4,12 @@
 //!
 //! The memory is a grid of cells over the plane. Every all-around scan marks the cell of each
 //! obstacle point a ray hit — and the cells between the hits of neighbouring rays closer than
-//! the disc's width, which must be one surface — and clears the cells the rays crossed freely
-//! (so another agent that walked away is forgotten). Cells near a marked cell are inflated for the agent's disc: within
-//! the hard radius they cannot be crossed, within the soft radius (a clearance margin) they
-//! cost more. The way to the goal is an A* path over the grid with unknown cells taken as free
+//! the disc's width, which must be one surface — and wears down the evidence of the cells the
+//! rays crossed freely: a cell is forgotten after [`EVIDENCE`] free crossings with no hit in
+//! between (so another agent that walked away is forgotten, while a cell holding the face of a
+//! wall, which rays grazing the wall cross, is not). Cells near a marked cell are inflated for
+//! the agent's disc: within the hard radius they cannot be crossed, within the soft radius (a
+//! clearance margin) they cost more. The way to the goal is an A* path over the grid with unknown cells taken as free
 //! (planning with the free-space assumption: each new obstacle either leaves the path clear or
 //! is remembered, so the agent never tries the same blocked way twice and, in a finite world,
 //! reaches any goal it can reach). The planner's goal seeking then steers toward a waypoint on
@@ -15,7 +17,10 @@
 //!
 //! The path is kept between steps and planned again only when a newly remembered obstacle
 //! touches it or the agent strays from it, so a step costs what is near the agent, not the
-//! size of the map. The grid grows as the agent explores. Everything is deterministic: plain
+//! size of the map; a new plan replaces the path only when it is clearly shorter, so two ways
+//! round an obstacle of about the same length do not take turns. The waypoint is the farthest
+//! point of the path within reach in clear sight, with the margin kept when that leaves one at
+//! least a metre ahead. The grid grows as the agent explores. Everything is deterministic: plain
 //! vectors, ties broken by cell index.
 
 use std::cmp::Ordering;
@@ -26,7 +31,7 @@ use glam::DVec2;
 /// Tuning of the memory. Every field documents its default.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MemoryParams {
-    /// Side of a cell, metres (0.25).
+    /// Side of a cell, metres (0.125).
     pub cell_m: f64,
     /// Clearance margin beyond the agent's radius that makes a path cost more, metres (0.15).
     pub margin_m: f64,
