@@ -473,21 +473,35 @@ pub fn swept_free(scan: &[f64], radius: f64, range: f64) -> Vec<f64> {
     let n = scan.len();
     let step = std::f64::consts::TAU / n.max(1) as f64;
     let table: Vec<(f64, f64)> = (0..n).map(|d| ((step * d as f64).cos(), (step * d as f64).sin())).collect();
-    let hits: Vec<(usize, f64)> =
-        scan.iter().enumerate().filter(|(_, f)| **f < range).map(|(j, f)| (j, f + radius)).collect();
-    (0..n)
-        .map(|i| {
-            let mut free = scan[i];
-            for &(j, t) in &hits {
-                let (c, s) = table[(j + n - i) % n];
-                let (along, perp) = (t * c, t * s);
-                if along > 0.0 && perp.abs() < radius {
-                    free = free.min((along - (radius * radius - perp * perp).sqrt()).max(0.0));
-                }
-            }
-            free
-        })
-        .collect()
+    (0..n).map(|i| swept_free_along(scan, i, radius, radius, range, |d| table[d])).collect()
+}
+
+/// How far a disc of radius `grown`, centred where `scan` was taken, can travel along ray `i`
+/// of it: the scan's own free distance, cut where a hit point of another ray (at its free
+/// distance plus `radius`) comes within `grown` of the line swept, metres. `dir(d)` is the
+/// cosine and sine of `d` ray steps.
+pub fn swept_free_along(
+    scan: &[f64],
+    i: usize,
+    radius: f64,
+    grown: f64,
+    range: f64,
+    dir: impl Fn(usize) -> (f64, f64),
+) -> f64 {
+    let n = scan.len();
+    let mut free = scan[i];
+    for (j, &f) in scan.iter().enumerate() {
+        if f >= range {
+            continue;
+        }
+        let t = f + radius;
+        let (c, s) = dir((j + n - i) % n);
+        let (along, perp) = (t * c, t * s);
+        if along > 0.0 && perp.abs() < grown {
+            free = free.min((along - (grown * grown - perp * perp).sqrt()).max(0.0));
+        }
+    }
+    free
 }
 
 /// The absolute heading toward the goal given an all-around `scan`, and the closest approach

@@ -111,24 +111,10 @@ pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, clearance: f64, rang
     }
     let step = std::f64::consts::TAU / n as f64;
     let lo = ((heading.rem_euclid(std::f64::consts::TAU) / step).floor() as usize) % n;
-    let grown = radius + clearance;
-    // One ray of [`super::swept_free`] for the grown disc (obstacle points stay where the
-    // scan saw them).
-    let along_ray = |i: usize| {
-        let mut free = scan[i];
-        for (j, &f) in scan.iter().enumerate() {
-            if f >= range {
-                continue;
-            }
-            let t = f + radius;
-            let a = step * ((j + n - i) % n) as f64;
-            let (along, perp) = (t * a.cos(), t * a.sin());
-            if along > 0.0 && perp.abs() < grown {
-                free = free.min((along - (grown * grown - perp * perp).sqrt()).max(0.0));
-            }
-        }
-        free
-    };
+    let dir = |d: usize| ((step * d as f64).cos(), (step * d as f64).sin());
+    // The two rays of [`super::swept_free`] around the heading, for the grown disc (obstacle
+    // points stay where the scan saw them).
+    let along_ray = |i: usize| super::swept_free_along(scan, i, radius, radius + clearance, range, dir);
     Some(along_ray(lo).min(along_ray((lo + 1) % n)))
 }
 
