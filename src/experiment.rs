@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::plan;
-use crate::scenario::Scenario;
+use crate::scenario::{BARN_SPEED_MPS, Scenario};
 use crate::sim::{LayeredController, Outcome, Simulation, StepParameters};
 use crate::world::World;
 
@@ -76,6 +76,13 @@ pub struct EpisodeRecord {
     /// Animated body only: RMS difference between the commanded and the actual speed, m/s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speed_rms_mps: Option<f64>,
+    /// Worlds with a benchmark reference (BARN): the BARN metric, `success · OT / clip(AT,
+    /// 2·OT, 8·OT)` with OT the reference path at 2 m/s (at most 0.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barn_score: Option<f64>,
+    /// The same with OT the reference path at the run's walking speed ([`walking_speed`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barn_score_walking: Option<f64>,
 }
 
 /// Aggregate figures of a batch.
@@ -106,6 +113,12 @@ pub struct Summary {
     /// Animated body: transitions per simulated second.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub transitions_per_s: Option<f64>,
+    /// Worlds with a benchmark reference (BARN): mean BARN metric over their episodes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barn_score: Option<f64>,
+    /// The same with the optimal time at the run's walking speed ([`walking_speed`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barn_score_walking: Option<f64>,
 }
 
 /// A finished episode with its trail (for pictures).
@@ -165,8 +178,20 @@ pub fn run_episode(
         tracking_rms_m: tracking.map(|t| t.rms_path_m()),
         heading_rms_deg: tracking.map(|t| t.rms_direction().to_degrees()),
         speed_rms_mps: tracking.map(|t| t.rms_speed()),
+        barn_score: scenario.reference.map(|r| r.score(reached, m.time_s, BARN_SPEED_MPS)),
+        barn_score_walking: scenario.reference.map(|r| r.score(reached, m.time_s, walking_speed(params))),
     };
     Episode { record, trail: agent.trail.clone() }
+}
+
+/// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,
+/// which the character follows too, walking; its database may hold faster gaits it is never
+/// asked for).
+pub fn walking_speed(params: &StepParameters) -> f64 {
+    match &params.animation {
+        Some(a) => params.limits.max_speed.min(a.0.db.max_speed()),
+        None => params.limits.max_speed,
+    }
 }
 
 /// One unit of a batch: a scenario, which of its tasks, and the episode seed.
@@ -206,6 +231,11 @@ pub fn run_batch(
         .collect()
 }
 
+fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
+    let (sum, n) = xs.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    (n > 0).then(|| sum / n as f64)
+}
+
 /// Aggregates records.
 pub fn summarize(records: &[EpisodeRecord]) -> Summary {
     let reached = records.iter().filter(|r| r.reached).count();
@@ -243,6 +273,8 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
                 .fold((0u64, 0u64), |(p, s), r| (p + r.plants.unwrap_or(0), s + r.sliding_plants.unwrap_or(0)));
             (p > 0).then(|| 1.0 - slid as f64 / p as f64)
         },
+        barn_score: mean(records.iter().filter_map(|r| r.barn_score)),
+        barn_score_walking: mean(records.iter().filter_map(|r| r.barn_score_walking)),
         transitions_per_s: {
             let n: u64 = records.iter().filter_map(|r| r.transitions).sum();
             let t: f64 = records.iter().filter(|r| r.transitions.is_some()).map(|r| r.time_s).sum();

@@ -25,6 +25,33 @@ pub struct Scenario {
     pub tasks: Vec<Task>,
     /// Radius of the agent's disc, metres.
     pub agent_radius: f64,
+    /// A benchmark's reference for the tasks (a BARN challenge world), if any.
+    pub reference: Option<Reference>,
+}
+
+/// Speed at which a BARN reference path is walked for the challenge's optimal time, m/s.
+pub const BARN_SPEED_MPS: f64 = 2.0;
+
+/// A benchmark's reference for a scenario's tasks: the BARN challenge's reference path. Its
+/// score for an episode is `success · OT / clip(AT, 2·OT, 8·OT)`, with AT the time taken and OT
+/// the reference path's length at a reference speed ([`Reference::score`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reference {
+    /// Length of the reference path, metres.
+    pub path_length_m: f64,
+}
+
+impl Reference {
+    /// The BARN metric of an episode that took `time_s` seconds (`reached` or not), with the
+    /// optimal time OT the reference path's length at `speed_mps`: `OT / clip(AT, 2·OT, 8·OT)`
+    /// when reached, else 0. The challenge itself uses [`BARN_SPEED_MPS`]; at most 0.5.
+    pub fn score(&self, reached: bool, time_s: f64, speed_mps: f64) -> f64 {
+        let ot = self.path_length_m / speed_mps;
+        if !reached || !(ot > 0.0) || !time_s.is_finite() {
+            return 0.0;
+        }
+        ot / time_s.clamp(2.0 * ot, 8.0 * ot)
+    }
 }
 
 impl Scenario {
@@ -35,6 +62,7 @@ impl Scenario {
             obstacles: Vec::new(),
             tasks: Vec::new(),
             agent_radius: DEFAULT_AGENT_RADIUS,
+            reference: None,
         }
     }
 

@@ -126,6 +126,8 @@ pub struct Agent {
     /// Distance from the goal to the nearest obstacle point the last scan saw, metres.
     pub obstacle_goal_distance: f64,
     scan: Vec<f64>,
+    /// The last scan of the world's obstacles alone (no other agents).
+    walls: Vec<f64>,
 }
 
 /// An agent's body: a kinematic disc or an animated character.
@@ -277,6 +279,7 @@ impl Simulation {
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
             scan: Vec::new(),
+            walls: Vec::new(),
         });
     }
 
@@ -327,13 +330,21 @@ impl Simulation {
                     &self.others,
                     &mut self.scratch,
                     &mut agent.scan,
+                    &mut agent.walls,
                 );
                 (agent.heading_to_goal, agent.reachable_goal_distance) =
                     heading_to_goal(&agent.scan, pose.position, agent.task.goal, radius, self.params.layout.range);
-                agent.memory.observe(pose.position, &agent.scan, radius, self.params.layout.range);
+                agent.memory.observe(pose.position, &agent.walls, radius, self.params.layout.range);
                 agent.route_m = f64::INFINITY;
                 agent.aim_m = f64::INFINITY;
-                if let Some(aim) = agent.memory.heading(pose.position) {
+                let range = self.params.layout.range;
+                let margin = agent.controller.params.margin_m;
+                let scan = &agent.scan;
+                let sight = |h: f64| match follow::swept_ahead(scan, h, radius, margin, range) {
+                    Some(f) if f < range => f,
+                    _ => f64::INFINITY,
+                };
+                if let Some(aim) = agent.memory.heading(pose.position, sight) {
                     agent.heading_to_goal = aim.heading;
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;
@@ -439,7 +450,9 @@ pub fn goal_visible(
 }
 
 /// Free distance for the agent's disc along `n` rays evenly spaced around it (ray `i` at
-/// angle `2πi/n`), capped at `range`, metres.
+/// angle `2πi/n`): the distance from `from` to the first obstacle or other agent the ray hits,
+/// less `radius`, capped at `range`, metres. `walls` gets the same for the world's obstacles
+/// alone (what the agent's memory keeps).
 #[allow(clippy::too_many_arguments)]
 pub fn scan(
     world: &World,
@@ -450,11 +463,14 @@ pub fn scan(
     others: &[(DVec2, f64)],
     scratch: &mut Vec<usize>,
     out: &mut Vec<f64>,
+    walls: &mut Vec<f64>,
 ) {
     out.clear();
+    walls.clear();
     for i in 0..n.max(1) {
         let dir = DVec2::from_angle(std::f64::consts::TAU * i as f64 / n.max(1) as f64);
         let mut t = world.ray_cast(from, dir, range + radius, scratch).unwrap_or(range + radius);
+        walls.push((t - radius).clamp(0.0, range));
         for &(c, r) in others {
             if let Ok(disc) = crate::geom::Shape::circle(c, r)
                 && let Some(h) = disc.ray_cast(from, dir, t)

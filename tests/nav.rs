@@ -46,6 +46,37 @@ fn shipped_maps_are_solved_without_collisions() {
     }
 }
 
+/// Both bodies: the disc and the animated character the papers are about.
+fn bodies() -> [(&'static str, StepParameters); 2] {
+    let db = strider::cli::anim::builtin_database().unwrap();
+    let policy = strider::anim::policy::Policy::from_bytes(strider::cli::anim::DEFAULT_POLICY, &db).unwrap();
+    let anim = strider::sim::animated::Animation::new(db, policy);
+    let animated = StepParameters {
+        animation: Some(strider::sim::animated::AnimationHandle(std::sync::Arc::new(anim))),
+        ..StepParameters::default()
+    };
+    [("disc", StepParameters::default()), ("character", animated)]
+}
+
+#[test]
+fn buildings_and_mazes_are_found_through_without_a_map() {
+    // A chain of rooms whose doors force the long way round, a maze whose loop does not pass
+    // the point where the agent first met a wall, and a spiral: reached by both bodies, with
+    // room kept from the walls and no wandering.
+    let c = controller();
+    for (body, params) in bodies() {
+        for (name, most_ratio) in [("rooms_chain", 2.0), ("maze_loop", 2.0), ("spiral", 2.0)] {
+            let s = map(name);
+            let e = experiment::run_episode(&s, &s.world(), 0, &c, &params, 0, 0);
+            let r = &e.record;
+            assert!(r.reached, "{body} {name}: {r:?}");
+            assert_eq!(r.collisions, 0, "{body} {name}");
+            assert!(r.min_clearance_m >= 0.02, "{body} {name}: {r:?}");
+            assert!(r.path_ratio.unwrap() <= most_ratio, "{body} {name}: {r:?}");
+        }
+    }
+}
+
 #[test]
 fn same_seed_same_trajectory_bit_for_bit() {
     let c = controller();

@@ -205,12 +205,12 @@ fn opt(x: Option<f64>) -> String {
 fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> {
     writeln!(
         out,
-        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m"
+        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m,barn_score,barn_score_walking"
     )?;
     for r in records {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.episode,
             r.scenario,
             r.task,
@@ -226,7 +226,9 @@ fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> 
             r.boundary_follows,
             opt(r.foot_skating_cm_per_frame),
             opt(r.transition_cost),
-            opt(r.tracking_rms_m)
+            opt(r.tracking_rms_m),
+            opt(r.barn_score),
+            opt(r.barn_score_walking)
         )?;
     }
     Ok(())

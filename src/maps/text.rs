@@ -13,7 +13,7 @@
 //! | `convex x1 y1 x2 y2 …` | convex hull of at least three points |
 //! | `poly x1 y1 x2 y2 …` | simple, possibly non-convex polygon (split into convex parts) |
 //! | `z_extent z_min z_max` | vertical extent of the obstacles that follow (default [`DEFAULT_Z`]) |
-//! | `ref_path_length L` | BARN extra: reference path length (m), kept in [`TextExtras`] |
+//! | `ref_path_length L` | BARN extra: reference path length (m), the scenario's [`Reference`] |
 //! | `optimal_time_at_2mps T` | BARN extra: optimal time at 2 m/s (s), kept in [`TextExtras`] |
 //!
 //! Tasks are formed by pairing `start` and `goal` lines in order: each `goal` takes the oldest
@@ -35,12 +35,14 @@ use glam::DVec2;
 use super::{TaskEnd, first_blocked_task};
 use crate::diagnostic::SourceError;
 use crate::geom::GeomError;
-use crate::scenario::Scenario;
+use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, World};
 
 /// Items of a text world that describe a benchmark rather than the world (BARN challenge).
-/// [`parse`] drops them; [`parse_with_extras`] returns them.
+/// [`parse`] keeps the reference path's length as the scenario's [`Reference`] (from
+/// `optimal_time_at_2mps` at 2 m/s when only that is given); [`parse_with_extras`] also
+/// returns them as written.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct TextExtras {
     /// `ref_path_length`: length of the BARN reference path, metres.
@@ -50,7 +52,8 @@ pub struct TextExtras {
 }
 
 /// Reads a text world. `file` names the source in errors; its stem becomes the scenario name.
-/// Benchmark extras (`ref_path_length`, `optimal_time_at_2mps`) are accepted and dropped.
+/// Benchmark extras (`ref_path_length`, `optimal_time_at_2mps`) become the scenario's
+/// [`Reference`].
 pub fn parse(text: &str, file: &str) -> Result<Scenario, SourceError> {
     parse_with_extras(text, file).map(|(scenario, _)| scenario)
 }
@@ -68,6 +71,9 @@ pub fn write(scenario: &Scenario) -> String {
     let name: String = scenario.name.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
     let _ = writeln!(out, "# strider text world: {name}");
     let _ = writeln!(out, "agent_radius {}", scenario.agent_radius);
+    if let Some(r) = scenario.reference {
+        let _ = writeln!(out, "ref_path_length {}", r.path_length_m);
+    }
     for t in &scenario.tasks {
         let s = t.start;
         let _ = writeln!(out, "start {} {} {}", s.position.x, s.position.y, s.yaw);
@@ -202,6 +208,9 @@ impl<'f> Parser<'f> {
             return Err(self.err(0, 0, "no task: the world needs a `start x y` line followed by a `goal x y` line"));
         }
         self.check_tasks()?;
+        let e = self.extras;
+        let length = e.ref_path_length_m.or(e.optimal_time_at_2mps_s.map(|t| t * BARN_SPEED_MPS));
+        self.scenario.reference = length.map(|path_length_m| Reference { path_length_m });
         Ok((self.scenario, self.extras))
     }
 
@@ -456,6 +465,25 @@ mod tests {
         let (t, end) = tokenize("start 1 2");
         assert_eq!(t.len(), 3);
         assert_eq!(end, 10);
+    }
+
+    #[test]
+    fn a_barn_world_keeps_its_reference_and_scores_episodes() {
+        let text = "start 0 0\ngoal 10 0\nref_path_length 10.5\noptimal_time_at_2mps 5.25\ncyl 5 3 0.075\n";
+        let s = parse(text, "barn.txt").unwrap();
+        let r = s.reference.unwrap();
+        assert_eq!(r.path_length_m, 10.5);
+        // OT = 5.25 s at 2 m/s: faster than 2·OT scores 0.5, slower than 8·OT 0.125, a miss 0.
+        assert_eq!(r.score(true, 3.0, BARN_SPEED_MPS), 0.5);
+        assert!((r.score(true, 21.0, BARN_SPEED_MPS) - 0.25).abs() < 1e-12);
+        assert_eq!(r.score(true, 100.0, BARN_SPEED_MPS), 0.125);
+        assert_eq!(r.score(false, 3.0, BARN_SPEED_MPS), 0.0);
+        // Only the optimal time given: the reference length is that time at 2 m/s.
+        let s = parse("start 0 0\ngoal 10 0\noptimal_time_at_2mps 6\n", "b.txt").unwrap();
+        assert_eq!(s.reference.unwrap().path_length_m, 12.0);
+        // Written and read back.
+        assert_eq!(parse(&write(&s), "b.txt").unwrap().reference, s.reference);
+        assert_eq!(parse("start 0 0\ngoal 10 0\n", "w.txt").unwrap().reference, None);
     }
 
     #[test]
