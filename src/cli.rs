@@ -9,6 +9,7 @@ pub mod experiment;
 pub mod fuzzy;
 pub mod render;
 pub mod run;
+pub mod snapshot;
 pub mod tui;
 
 use std::io::{self, IsTerminal, Write};
@@ -41,6 +42,8 @@ pub enum Command {
     Gen(run::GenArgs),
     /// Write top-down PNG frames of an episode.
     Render(render::RenderArgs),
+    /// Compare an episode's frames and trajectory with golden snapshots (or write them).
+    Snapshot(snapshot::SnapshotArgs),
     /// Run an experiment script (maps, rule sets, episodes, metrics).
     Experiment(experiment::ExperimentArgs),
     /// Watch, step and drive a navigation run live in the terminal.
@@ -95,6 +98,7 @@ pub fn main() -> ExitCode {
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Gen(args)) => run::gen_world(args),
         Some(Command::Render(args)) => render::render(args),
+        Some(Command::Snapshot(args)) => snapshot::run(args),
         Some(Command::Experiment(args)) => experiment::run(args),
         Some(Command::Tui(args)) => tui::run(args),
         Some(Command::Db { command }) => anim::db(command),

@@ -21,5 +21,6 @@ pub mod rng;
 pub mod scenario;
 pub mod script;
 pub mod sim;
+pub mod snapshot;
 pub mod tui;
 pub mod world;

@@ -1,27 +1,27 @@
 //! Golden-image tests for the top-down scene renderer (seed 000 Fig 2-style views).
 //!
 //! Each test renders a [`Scene`] with [`render_png`] — the same `draw_scene` routine the
-//! terminal UI uses — and compares it with `tests/golden/{name}.png`. A pixel counts as equal
-//! when every channel differs by at most [`CHANNEL_TOLERANCE`]; a test fails when more than
-//! [`MAX_DIFFERING_FRACTION`] of the pixels differ, writing the actual image and a diff image
-//! (differing pixels red over a faded copy) to `target/golden-failures/`.
+//! terminal UI uses — and compares it with `tests/golden/{name}.png` through
+//! [`snapshot::check_image`], the comparison behind `strider snapshot`. A pixel counts as
+//! equal when every channel differs by at most 8; a test fails when more than 0.1 % of the
+//! pixels differ, writing the actual image and a diff image (differing pixels red over a faded
+//! copy) to `target/golden-failures/`.
 //!
-//! Regenerate the golden files with `UPDATE_GOLDEN=1 cargo test --test golden`, then look at
-//! them before committing.
+//! Regenerate the golden files with `UPDATE_GOLDEN=1 cargo test --test golden` (or
+//! `STRIDER_UPDATE_GOLDEN=1`), then look at them before committing.
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 use strider::geom::Aabb;
-use strider::render::png::{encode, render_png};
+use strider::render::png::render_png;
 use strider::render::scene::{AgentView, Scene};
+use strider::snapshot::{self, Tolerance};
 use strider::world::{Obstacle, ObstacleShape, SectorLayout, Sensed, World};
 use tiny_skia::Pixmap;
 
-/// Largest per-channel difference (0–255) for two pixels to count as equal.
-const CHANNEL_TOLERANCE: u8 = 8;
-/// Largest fraction of differing pixels for an image to match (0.1 %).
-const MAX_DIFFERING_FRACTION: f64 = 0.001;
+/// Pixels may differ by 8 per channel; at most 0.1 % of them may differ more.
+const TOLERANCE: Tolerance = Tolerance { channel: 8, changed_share: 0.001 };
 
 fn golden_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("golden").join(format!("{name}.png"))
@@ -34,25 +34,14 @@ fn failure_dir() -> PathBuf {
     target.join("golden-failures")
 }
 
-/// Straight-alpha RGBA bytes of a pixmap.
-fn straight_rgba(pm: &Pixmap) -> Vec<[u8; 4]> {
-    pm.pixels()
-        .iter()
-        .map(|p| {
-            let c = p.demultiply();
-            [c.red(), c.green(), c.blue(), c.alpha()]
-        })
-        .collect()
-}
-
 /// Compares `actual` with `tests/golden/{name}.png`, or rewrites the golden file when
-/// `UPDATE_GOLDEN=1` is set. Panics with the paths of the written actual and diff images on a
-/// mismatch.
+/// `UPDATE_GOLDEN=1` or `STRIDER_UPDATE_GOLDEN=1` is set. Panics with the paths of the written
+/// actual and diff images on a mismatch.
 fn assert_matches_golden(name: &str, actual: &Pixmap) {
     let path = golden_path(name);
-    if std::env::var("UPDATE_GOLDEN").is_ok_and(|v| v == "1") {
+    if std::env::var("UPDATE_GOLDEN").is_ok_and(|v| v == "1") || snapshot::update_requested() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, encode(actual).unwrap()).unwrap();
+        snapshot::write_png(&path, actual).unwrap();
         return;
     }
     if !path.exists() {
@@ -61,46 +50,14 @@ fn assert_matches_golden(name: &str, actual: &Pixmap) {
             path.display()
         );
     }
-    let expected = image::open(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display())).to_rgba8();
-    let (w, h) = (actual.width(), actual.height());
-    let got = straight_rgba(actual);
-    let (mismatch, differing) = if expected.dimensions() != (w, h) {
-        (format!("size {}x{} differs from golden {:?}", w, h, expected.dimensions()), vec![true; got.len()])
-    } else {
-        let differing: Vec<bool> = got
-            .iter()
-            .zip(expected.pixels())
-            .map(|(a, e)| a.iter().zip(e.0.iter()).any(|(x, y)| x.abs_diff(*y) > CHANNEL_TOLERANCE))
-            .collect();
-        let n = differing.iter().filter(|&&d| d).count();
-        let frac = n as f64 / got.len().max(1) as f64;
-        if frac <= MAX_DIFFERING_FRACTION {
-            return;
-        }
-        (format!("{n} of {} pixels differ ({:.3} %)", got.len(), frac * 100.0), differing)
-    };
     let dir = failure_dir();
     std::fs::create_dir_all(&dir).unwrap();
-    let actual_path = dir.join(format!("{name}.actual.png"));
-    let diff_path = dir.join(format!("{name}.diff.png"));
-    std::fs::write(&actual_path, encode(actual).unwrap()).unwrap();
-    let diff = image::RgbaImage::from_fn(w, h, |x, y| {
-        let i = (y * w + x) as usize;
-        if differing[i] {
-            image::Rgba([255, 0, 0, 255])
-        } else {
-            let [r, g, b, _] = got[i];
-            let fade = |c: u8| 255 - (255 - c) / 4;
-            image::Rgba([fade(r), fade(g), fade(b), 255])
-        }
-    });
-    diff.save(&diff_path).unwrap();
-    panic!(
-        "{name}: rendering does not match {}: {mismatch}\n  actual: {}\n  diff:   {}\n  \
+    let result = snapshot::check_image(&path, actual, &TOLERANCE, &dir).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(
+        result.matches(),
+        "{name}: rendering does not match {}:\n  {result}\n  \
          (if the change is intended: UPDATE_GOLDEN=1 cargo test --test golden)",
-        path.display(),
-        actual_path.display(),
-        diff_path.display()
+        path.display()
     );
 }
 

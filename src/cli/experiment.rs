@@ -9,19 +9,29 @@
 //! let m = load_map("maps/u_trap.rhai");
 //! let e = run_episode(m, base, 0, 1);              // map, rules, task, seed
 //! print(`reached ${e.reached} ratio ${e.path_ratio}`);
+//! let s = snapshot(m, base, 1, "snapshots/u_trap"); // map, rules, seed, golden directory
+//! print(s.report);
 //! ```
+//! `snapshot` takes the same map forms as `load_map` (or a loaded map) and an optional options
+//! map (`every`, `width`, `height`, `tolerance`, `update`, `body`, `episode`, `side`); it runs
+//! [`crate::snapshot::check_episode`] like `strider snapshot` and returns `passed`, `updated`,
+//! `frames`, `changed`, `divergence_s` (`()` when the trajectories agree) and `report`. A
+//! script whose snapshots did not all match exits with code 1.
 //! The functions here do file IO and run simulations, so they live with the front-ends and
 //! are registered on top of the one hardened script engine. `print` goes to stdout.
 
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::Arc;
 
 use anyhow::{Context, anyhow};
 use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
-use super::Outcome;
+use super::anim::{BodyArgs, BodyKind, load_animation};
 use super::run::{MapSource, jobs, load_map};
+use super::{Failure, Outcome};
 use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::{self, EpisodeRecord, Summary};
 use crate::fuzzy::Engine;
@@ -30,6 +40,7 @@ use crate::scenario::Scenario;
 use crate::script::fuzzy_api::{self, EngineHandle};
 use crate::script::{Limits, ScriptLog, hardened_engine, script_error};
 use crate::sim::{ControllerParams, LayeredController, StepParameters};
+use crate::snapshot::{self, Settings, Tolerance};
 
 type Res<T> = Result<T, Box<EvalAltResult>>;
 
@@ -167,6 +178,137 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
     });
 }
 
+/// Reports of the snapshots that did not match while an experiment script ran.
+#[derive(Debug, Clone, Default)]
+pub struct SnapshotFailures(Rc<RefCell<Vec<String>>>);
+
+impl SnapshotFailures {
+    /// The reports, in the order the snapshots ran.
+    pub fn reports(&self) -> Vec<String> {
+        self.0.borrow().clone()
+    }
+}
+
+/// What a script's options map asks of a snapshot.
+struct SnapshotOptions {
+    settings: Settings,
+    body: BodyKind,
+    episode: usize,
+}
+
+fn snapshot_options(options: &Map) -> Res<SnapshotOptions> {
+    let mut o = SnapshotOptions { settings: Settings::default(), body: BodyKind::Animated, episode: 0 };
+    let count = |key: &str, v: &Dynamic, max: i64| -> Res<i64> {
+        v.as_int()
+            .ok()
+            .filter(|n| (0..=max).contains(n))
+            .ok_or_else(|| format!("snapshot option '{key}' must be an integer in 0..={max}, found {v}").into())
+    };
+    for (key, v) in options {
+        match key.as_str() {
+            "every" => o.settings.every = count(key, v, i64::from(u32::MAX))? as usize,
+            "width" => o.settings.size.0 = count(key, v, 8192)?.max(16) as u32,
+            "height" => o.settings.size.1 = count(key, v, 8192)?.max(16) as u32,
+            "tolerance" => o.settings.tolerance = Tolerance::channel(count(key, v, 255)? as u8),
+            "episode" => o.episode = count(key, v, i64::from(u32::MAX))? as usize,
+            "update" | "side" => {
+                let b = v.as_bool().map_err(|_| format!("snapshot option '{key}' must be true or false, found {v}"))?;
+                if key == "update" { o.settings.update = b } else { o.settings.side = b }
+            }
+            "body" => {
+                o.body = match v.clone().into_string().as_deref() {
+                    Ok("animated") => BodyKind::Animated,
+                    Ok("disc") => BodyKind::Disc,
+                    _ => {
+                        return Err(
+                            format!("snapshot option 'body' must be \"animated\" or \"disc\", found {v}").into()
+                        );
+                    }
+                }
+            }
+            other => {
+                return Err(format!(
+                    "unknown snapshot option '{other}' (every, width, height, tolerance, update, body, episode, side)"
+                )
+                .into());
+            }
+        }
+    }
+    Ok(o)
+}
+
+fn take_snapshot(
+    source: &MapSource,
+    rules: &Array,
+    seed: i64,
+    dir: &Path,
+    options: &Map,
+    failures: &SnapshotFailures,
+) -> Res<Map> {
+    let o = snapshot_options(options)?;
+    let c = controller(rules)?;
+    let job = jobs(source, Some(o.episode + 1), seed_of(seed)?)
+        .ok()
+        .and_then(|mut j| j.pop())
+        .ok_or_else(|| -> Box<EvalAltResult> { "cannot prepare the episode".into() })?;
+    let animation = load_animation(&BodyArgs { body: o.body, ..BodyArgs::default() }).map_err(failure_text)?;
+    let episode = snapshot::Episode::new(job.scenario, job.task, job.seed, c, animation);
+    let report = snapshot::check_episode(&episode, &o.settings, dir)
+        .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+    if !report.passed() {
+        failures.0.borrow_mut().push(report.to_string());
+    }
+    let mut m = Map::new();
+    m.insert("passed".into(), Dynamic::from_bool(report.passed()));
+    m.insert("updated".into(), Dynamic::from_bool(report.updated));
+    m.insert("frames".into(), Dynamic::from_int(report.frames.len() as i64));
+    m.insert("changed".into(), Dynamic::from_int(report.failures().count() as i64));
+    m.insert("divergence_s".into(), opt(report.divergence.map(|d| d.time_s)));
+    m.insert("report".into(), Dynamic::from(report.to_string()));
+    Ok(m)
+}
+
+fn failure_text(f: Failure) -> Box<EvalAltResult> {
+    match f {
+        Failure::Input(e) | Failure::Task(e) => format!("{e:#}").into(),
+    }
+}
+
+/// Registers `snapshot(map, rules, seed, dir[, options])` on a script engine: `map` is a
+/// loaded map or the same strings `load_map` and `random:KIND` take; relative paths resolve
+/// from `base`. The returned handle collects the reports of snapshots that did not match.
+pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFailures {
+    let failures = SnapshotFailures::default();
+    let resolve = {
+        let base = base.to_path_buf();
+        move |path: &str| -> Res<MapSource> {
+            let full = if path.starts_with("random:") {
+                path.to_string()
+            } else {
+                base.join(path).to_string_lossy().into_owned()
+            };
+            load_map(&full, None).map_err(failure_text)
+        }
+    };
+    let (f, b) = (failures.clone(), base.to_path_buf());
+    engine.register_fn("snapshot", move |s: ScenarioHandle, rules: Array, seed: i64, dir: &str| {
+        take_snapshot(&MapSource::Scenario(s.0), &rules, seed, &b.join(dir), &Map::new(), &f)
+    });
+    let (f, b) = (failures.clone(), base.to_path_buf());
+    engine.register_fn("snapshot", move |s: ScenarioHandle, rules: Array, seed: i64, dir: &str, options: Map| {
+        take_snapshot(&MapSource::Scenario(s.0), &rules, seed, &b.join(dir), &options, &f)
+    });
+    let (f, b, r) = (failures.clone(), base.to_path_buf(), resolve.clone());
+    engine.register_fn("snapshot", move |map: &str, rules: Array, seed: i64, dir: &str| {
+        take_snapshot(&r(map)?, &rules, seed, &b.join(dir), &Map::new(), &f)
+    });
+    let (f, b) = (failures.clone(), base.to_path_buf());
+    engine.register_fn("snapshot", move |map: &str, rules: Array, seed: i64, dir: &str, options: Map| {
+        take_snapshot(&resolve(map)?, &rules, seed, &b.join(dir), &options, &f)
+    });
+    failures
+}
+
 /// `strider experiment`.
 pub fn run(args: ExperimentArgs) -> Outcome {
     let file = args.script.display().to_string();
@@ -176,6 +318,7 @@ pub fn run(args: ExperimentArgs) -> Outcome {
     let mut engine = hardened_engine(Limits::default(), &log);
     engine.on_print(|s| println!("{s}"));
     register(&mut engine, Path::new("."));
+    let failures = register_snapshot(&mut engine, Path::new("."));
     let ast = engine.compile(&source).map_err(|e| {
         let pos = e.position();
         anyhow!("{file}:{}:{}: {}", pos.line().unwrap_or(0), pos.position().unwrap_or(0), e.0)
@@ -183,6 +326,14 @@ pub fn run(args: ExperimentArgs) -> Outcome {
     engine.run_ast(&ast).map_err(|e| script_error(&file, &e))?;
     for line in log.lines() {
         eprintln!("{file}: {line}");
+    }
+    let failed = failures.reports();
+    if !failed.is_empty() {
+        return Err(Failure::Task(anyhow!(
+            "{} snapshot(s) did not match their goldens:\n{}",
+            failed.len(),
+            failed.join("\n")
+        )));
     }
     Ok(())
 }
