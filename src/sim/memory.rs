@@ -102,15 +102,18 @@ pub struct Memory {
     marked: Vec<bool>,
     /// Cells in `marked`.
     known: usize,
-    /// Marked cells within the hard radius.
-    hard: Vec<u16>,
+    /// A marked cell lies within the agent's radius: the cell cannot be crossed.
+    hard: Vec<bool>,
     /// How deep the cell lies in the clearance margin of a marked cell: 0 outside it,
     /// [`BANDS`] within the innermost band.
     band: Vec<u8>,
-    /// The agent's radius, metres.
-    radius: f64,
-    /// Cells a point's inflation may reach, to a side.
+    /// The cells a marked cell inflates, as offsets from it: whether each is closed, and its
+    /// band of the margin.
+    inflation: Vec<(i64, i64, bool, u8)>,
+    /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
+    /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
+    stale_m: f64,
     goal: DVec2,
     /// The current path, world points from near the agent to the goal.
     path: Vec<DVec2>,
@@ -151,6 +154,25 @@ impl PartialOrd for Open {
     }
 }
 
+/// The cells a marked cell inflates for a disc of `radius` with a clearance `margin` (cells of
+/// side `c`): closed when its centre lies within the radius of the marked cell's, and in band
+/// [`BANDS`] (innermost) down to 1 across the margin beyond.
+fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64, bool, u8)> {
+    let reach = ((radius + margin) / c).ceil() as i64;
+    let mut out = Vec::new();
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
+            let d = ((dx * dx + dy * dy) as f64).sqrt() * c;
+            if d < radius + margin {
+                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
+                let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
+                out.push((dx, dy, d < radius, band));
+            }
+        }
+    }
+    out
+}
+
 impl Memory {
     /// An empty memory for an agent of `radius` metres going from `start` to `goal`.
     pub fn new(start: DVec2, goal: DVec2, radius: f64, params: MemoryParams) -> Memory {
@@ -172,10 +194,11 @@ impl Memory {
             ny,
             marked: vec![false; nx * ny],
             known: 0,
-            hard: vec![0; nx * ny],
+            hard: vec![false; nx * ny],
             band: vec![0; nx * ny],
-            radius: radius.max(0.0),
+            inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
             reach_cells,
+            stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
             stale: true,
@@ -210,7 +233,7 @@ impl Memory {
         let hi_y = (j + GROW_CELLS + 1).max(ny);
         let (wx, wy) = ((hi_x - lo_x) as usize, (hi_y - lo_y) as usize);
         let mut marked = vec![false; wx * wy];
-        let mut hard = vec![0u16; wx * wy];
+        let mut hard = vec![false; wx * wy];
         let mut band = vec![0u8; wx * wy];
         for y in 0..ny {
             for x in 0..nx {
@@ -226,7 +249,7 @@ impl Memory {
         // Cells the path passes keep their world positions; the plan stays valid.
     }
 
-    /// Remembers an obstacle in cell `(i, j)`.
+    /// Remembers an obstacle at `p` (in its cell).
     fn mark(&mut self, p: DVec2) {
         if !p.is_finite() {
             return;
@@ -238,28 +261,15 @@ impl Memory {
         }
         self.marked[k] = true;
         self.known += 1;
-        // The point stands for its cell.
-        let q = self.centre(i, j);
-        let (radius, margin) = (self.radius, self.params.margin_m);
-        let reach = self.reach_cells;
-        for dy in -reach..=reach {
-            for dx in -reach..=reach {
-                let Some(n) = self.index(i + dx, j + dy) else { continue };
-                let d = self.centre(i + dx, j + dy).distance(q);
-                if d < radius {
-                    self.hard[n] = self.hard[n].saturating_add(1);
-                }
-                if d < radius + margin {
-                    let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
-                    let b = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
-                    self.band[n] = self.band[n].max(b);
-                }
-            }
+        for &(dx, dy, closed, band) in &self.inflation {
+            let Some(n) = self.index(i + dx, j + dy) else { continue };
+            self.hard[n] |= closed;
+            self.band[n] = self.band[n].max(band);
         }
         if !self.stale {
             // Does the new obstacle come near the path?
-            let near = radius + margin + self.params.cell_m;
-            if self.path.iter().any(|p| p.distance(q) <= near) {
+            let q = self.centre(i, j);
+            if self.path.iter().any(|p| p.distance(q) <= self.stale_m) {
                 self.stale = true;
             }
         }
@@ -386,7 +396,7 @@ impl Memory {
                 continue;
             }
             let Some(c) = self.index(i, j) else { continue };
-            if self.hard[c] > 0 {
+            if self.hard[c] {
                 return None;
             }
             if q.distance(a) > STRIDE_M {
@@ -473,15 +483,14 @@ impl Memory {
                 // The agent may stand in inflated cells (close to a wall): it may leave them,
                 // but closed cells are crossed only within the disc's reach of where it stands,
                 // never through a wall.
-                if self.hard[m] > 0 && m != goal && (self.marked[m] || (nx_ - si).abs().max((ny_ - sj).abs()) > escape)
-                {
+                if self.hard[m] && m != goal && (self.marked[m] || (nx_ - si).abs().max((ny_ - sj).abs()) > escape) {
                     continue;
                 }
                 if dx != 0 && dy != 0 {
                     // No squeezing diagonally between two closed cells.
                     let a = y as usize * self.nx + nx_ as usize;
                     let b = ny_ as usize * self.nx + x as usize;
-                    if self.hard[a] > 0 && self.hard[b] > 0 {
+                    if self.hard[a] && self.hard[b] {
                         continue;
                     }
                 }
@@ -538,7 +547,7 @@ impl Memory {
         for &p in path {
             let (i, j) = self.cell_of(p);
             let k = self.index(i, j)?;
-            if self.hard[k] > 0 && (i, j) != here {
+            if self.hard[k] && (i, j) != here {
                 return None;
             }
             let extra = self.margin_cost(k);
