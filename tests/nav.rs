@@ -78,6 +78,15 @@ fn buildings_and_mazes_are_found_through_without_a_map() {
 }
 
 #[test]
+fn the_default_scenario_reaches_its_goal() {
+    // `strider` with no command: the animated character on the built-in map.
+    let out = strider(&[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("reached the goal:  yes"), "{text}");
+}
+
+#[test]
 fn same_seed_same_trajectory_bit_for_bit() {
     let c = controller();
     let run = || {

@@ -34,9 +34,11 @@
 //! provides, bound to the network's inputs by name once, and the outputs it needs are looked
 //! up once.
 
-use super::body::{Body, Command};
+use std::f64::consts::FRAC_PI_2;
+
 use glam::DVec2;
 
+use super::body::{Body, Command};
 use super::follow::{FollowParams, FollowStep, follow_direction, swept_ahead};
 use crate::fuzzy::{Engine, Network};
 use crate::geom::wrap_angle;
@@ -413,7 +415,18 @@ impl LayeredController {
                 (p.follow_speed_mps.min(room) * align, turn)
             }
         };
-        within_reach(Command { turn_rate: turn_deg.to_radians(), speed, toward }, body)
+        let mut turn_rate = turn_deg.to_radians();
+        // Arriving: a goal inside the circle the body turns on is orbited, never reached. When
+        // the point aimed at is the goal itself, turn at least as tightly as the circle through
+        // it (within_reach slows the body down if it must to make that turn).
+        if side.is_none() && clear_to_aim && s.aim_distance.is_finite() && s.aim_distance >= s.goal_distance - 1e-6 {
+            let bearing = s.goal_angle.clamp(-FRAC_PI_2, FRAC_PI_2);
+            let needed = 2.0 * bearing.sin() / s.goal_distance.max(1e-6);
+            if needed.abs() * speed > turn_rate.abs() {
+                turn_rate = needed * speed;
+            }
+        }
+        within_reach(Command { turn_rate, speed, toward }, body)
     }
 
     /// Starts following the boundary after a stall. The first time, the side away from the
