@@ -140,8 +140,28 @@ pub fn run_episode(
     episode: usize,
     seed: u64,
 ) -> Episode {
+    run_episode_with(scenario, world, None, task_index, controller, params, episode, seed)
+}
+
+/// [`run_episode`] with the optimum taken from `planner` (built for `world` and the agent
+/// radius) when one is given, so that episodes in one world share its visibility graph.
+#[allow(clippy::too_many_arguments)]
+pub fn run_episode_with(
+    scenario: &Scenario,
+    world: &World,
+    planner: Option<&plan::Planner>,
+    task_index: usize,
+    controller: &LayeredController,
+    params: &StepParameters,
+    episode: usize,
+    seed: u64,
+) -> Episode {
     let task = scenario.tasks[task_index];
-    let optimal = plan::shortest_path(world, task.start.position, task.goal, params.limits.radius).map(|p| p.length);
+    let optimal = match planner {
+        Some(planner) => planner.shortest_path(task.start.position, task.goal),
+        None => plan::shortest_path(world, task.start.position, task.goal, params.limits.radius),
+    }
+    .map(|p| p.length);
     let mut sim = Simulation::new(world.clone(), params.clone());
     sim.add_agent(task, controller);
     while !sim.all_done() {
@@ -218,13 +238,30 @@ pub fn run_batch(
     params: &StepParameters,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EpisodeRecord> {
+    // Scenarios that several jobs share (many tasks in one map) build their optimal-path
+    // planner once, when the first of their episodes needs it.
+    let key = |job: &Job| std::sync::Arc::as_ptr(&job.scenario) as usize;
+    let mut shared: Vec<usize> = jobs.iter().map(key).collect();
+    shared.sort_unstable();
+    let mut repeated = Vec::new();
+    for w in shared.windows(2) {
+        if w[0] == w[1] && repeated.last() != Some(&w[0]) {
+            repeated.push(w[0]);
+        }
+    }
+    let planners: Vec<std::sync::OnceLock<Option<plan::Planner>>> =
+        repeated.iter().map(|_| std::sync::OnceLock::new()).collect();
     jobs.par_iter()
         .enumerate()
         .map(|(i, job)| {
             let world = job.scenario.world();
             let mut p = params.clone();
             p.limits.radius = job.scenario.agent_radius;
-            let e = run_episode(&job.scenario, &world, job.task, controller, &p, i, job.seed);
+            let planner = repeated
+                .binary_search(&key(job))
+                .ok()
+                .and_then(|k| planners[k].get_or_init(|| plan::Planner::new(&world, p.limits.radius)).as_ref());
+            let e = run_episode_with(&job.scenario, &world, planner, job.task, controller, &p, i, job.seed);
             progress();
             e.record
         })

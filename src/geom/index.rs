@@ -1,5 +1,8 @@
 //! Static bounding-volume hierarchy over axis-aligned boxes.
 
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+
 use glam::DVec2;
 
 use super::Aabb;
@@ -44,6 +47,36 @@ struct Node {
     second: usize,
     count: usize,
 }
+
+/// A pending entry of [`SpatialIndex::visit_nearest`].
+#[derive(Debug, Clone, Copy)]
+struct Near {
+    dist: f64,
+    item: bool,
+    index: usize,
+}
+
+impl Ord for Near {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Items sort before nodes at the same distance, so that an item is reported before any
+        // node whose box merely touches the same distance is opened.
+        self.dist.total_cmp(&other.dist).then(other.item.cmp(&self.item)).then(self.index.cmp(&other.index))
+    }
+}
+
+impl PartialOrd for Near {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Near {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Near {}
 
 impl SpatialIndex {
     /// Builds the index over `aabbs` (metres); item `i` is `aabbs[i]`. Boxes with NaN corners or
@@ -126,6 +159,75 @@ impl SpatialIndex {
         }
         let dir = d / len;
         self.query(out, |bx| bx.expanded(radius).intersects_segment(a, dir, len));
+    }
+
+    /// Whether `hit` holds for some item whose box the segment `origin + t·dir`,
+    /// `t ∈ [0, max_dist]`, touches. Boxes are visited roughly front to back along the segment
+    /// and the walk stops at the first item for which `hit` is true, so a segment blocked near
+    /// its start costs little however long it is.
+    pub fn any_along(&self, origin: DVec2, dir: DVec2, max_dist: f64, mut hit: impl FnMut(usize) -> bool) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let mut stack = [0usize; STACK];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top]];
+            if !node.bounds.intersects_segment(origin, dir, max_dist) {
+                continue;
+            }
+            if node.count > 0 {
+                for &item in &self.order[node.first..node.first + node.count] {
+                    if self.boxes[item].intersects_segment(origin, dir, max_dist) && hit(item) {
+                        return true;
+                    }
+                }
+            } else if top + 2 <= STACK {
+                // The child nearer the origin along `dir` is popped first.
+                let ahead = dir.dot(self.nodes[node.second].bounds.center() - self.nodes[node.first].bounds.center());
+                let (near, far) = if ahead >= 0.0 { (node.first, node.second) } else { (node.second, node.first) };
+                stack[top] = far;
+                stack[top + 1] = near;
+                top += 2;
+            }
+        }
+        false
+    }
+
+    /// Visits items in ascending order of their box's distance from `p` (ties by index) until
+    /// `visit(item, distance)` returns `false`. Boxes with NaN corners are never visited.
+    pub fn visit_nearest(&self, p: DVec2, mut visit: impl FnMut(usize, f64) -> bool) {
+        if self.nodes.is_empty() || p.is_nan() {
+            return;
+        }
+        // Entries ordered by distance, then items before nodes, then index.
+        let mut heap = BinaryHeap::new();
+        heap.push(Reverse(Near { dist: self.nodes[0].bounds.distance(p), item: false, index: 0 }));
+        while let Some(Reverse(Near { dist, item, index })) = heap.pop() {
+            if item {
+                if !visit(index, dist) {
+                    return;
+                }
+                continue;
+            }
+            let node = self.nodes[index];
+            if node.count > 0 {
+                for &i in &self.order[node.first..node.first + node.count] {
+                    let d = self.boxes[i].distance(p);
+                    if d.is_finite() {
+                        heap.push(Reverse(Near { dist: d, item: true, index: i }));
+                    }
+                }
+            } else {
+                for child in [node.first, node.second] {
+                    let d = self.nodes[child].bounds.distance(p);
+                    if d.is_finite() {
+                        heap.push(Reverse(Near { dist: d, item: false, index: child }));
+                    }
+                }
+            }
+        }
     }
 
     /// Depth-first traversal with a fixed stack; `hit` must be monotone (true for a box whenever
@@ -232,6 +334,49 @@ mod tests {
         assert!(worst < 120, "visited {worst} nodes");
         let visited = index.query(&mut out, |b| b.intersects_segment(DVec2::new(150.0, 150.0), DVec2::X, 5.0));
         assert!(visited < 120, "visited {visited} nodes");
+    }
+
+    #[test]
+    fn nearest_first_and_first_hit_agree_with_a_linear_scan() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let boxes: Vec<Aabb> =
+            (0..400).map(|_| Aabb::around(DVec2::new(next() * 50.0, next() * 50.0), 0.1 + next())).collect();
+        let index = SpatialIndex::build(&boxes);
+        for _ in 0..50 {
+            let p = DVec2::new(next() * 60.0 - 5.0, next() * 60.0 - 5.0);
+            let mut seen = Vec::new();
+            index.visit_nearest(p, |i, d| {
+                seen.push((d, i));
+                true
+            });
+            let mut expected: Vec<(f64, usize)> = boxes.iter().enumerate().map(|(i, b)| (b.distance(p), i)).collect();
+            expected.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            assert_eq!(seen, expected);
+            // Stopping early stops the walk.
+            let mut count = 0;
+            index.visit_nearest(p, |_, _| {
+                count += 1;
+                count < 5
+            });
+            assert_eq!(count, 5);
+
+            let dir = DVec2::from_angle(next() * std::f64::consts::TAU);
+            let len = next() * 40.0;
+            let along: Vec<usize> = (0..boxes.len()).filter(|&i| boxes[i].intersects_segment(p, dir, len)).collect();
+            let target = along.get(along.len() / 2).copied();
+            let mut tested = Vec::new();
+            let found = index.any_along(p, dir, len, |i| {
+                tested.push(i);
+                Some(i) == target
+            });
+            assert_eq!(found, target.is_some());
+            assert!(tested.iter().all(|i| along.contains(i)));
+            assert!(!index.any_along(p, dir, len, |_| false));
+        }
     }
 
     #[test]

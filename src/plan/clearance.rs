@@ -165,12 +165,22 @@ impl Clearance {
     }
 
     /// Whether the segment `a`–`b` stays outside the interior of every grown obstacle.
-    pub(crate) fn segment_clear(&self, a: DVec2, b: DVec2, scratch: &mut Vec<usize>) -> bool {
+    pub(crate) fn segment_clear(&self, a: DVec2, b: DVec2) -> bool {
         if !(a.is_finite() && b.is_finite()) {
             return false;
         }
-        self.index.query_ray(a, b - a, 1.0, scratch);
-        scratch.iter().all(|&i| !self.blockers[i].blocks_segment(a, b, self.radius, self.eps))
+        !self.index.any_along(a, b - a, 1.0, |i| self.blockers[i].blocks_segment(a, b, self.radius, self.eps))
+    }
+
+    /// Visits the grown obstacles nearest first by the distance of their boxes from `p`
+    /// ([`SpatialIndex::visit_nearest`]).
+    pub(crate) fn visit_nearest(&self, p: DVec2, visit: impl FnMut(usize, f64) -> bool) {
+        self.index.visit_nearest(p, visit);
+    }
+
+    /// The agent radius and the tolerance, metres.
+    pub(crate) fn radius_and_tolerance(&self) -> (f64, f64) {
+        (self.radius, self.eps)
     }
 }
 

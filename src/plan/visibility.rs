@@ -94,15 +94,6 @@ impl Node {
     }
 }
 
-/// Approximation polygons, nodes and bitangent edges among the obstacles.
-#[derive(Debug, Clone)]
-pub(crate) struct Graph {
-    pub(crate) hulls: Vec<Hull>,
-    pub(crate) nodes: Vec<Node>,
-    /// Neighbours of each node with the edge length in metres, ascending by neighbour.
-    pub(crate) adjacency: Vec<Vec<(usize, f64)>>,
-}
-
 /// Vertices of a polygon containing `blocker` grown by `radius`, with circular arcs replaced by
 /// circumscribed segments, at most `TAU / arc_segments` radians each.
 fn approximation(blocker: &Blocker, radius: f64, arc_segments: usize) -> Option<Vec<DVec2>> {
@@ -120,13 +111,176 @@ fn approximation(blocker: &Blocker, radius: f64, arc_segments: usize) -> Option<
     }
 }
 
+/// Approximation polygons and their nodes; edges are found when a search asks for them.
+#[derive(Debug, Clone)]
+pub(crate) struct Graph {
+    pub(crate) hulls: Vec<Hull>,
+    pub(crate) nodes: Vec<Node>,
+    /// Hull of each node.
+    hull_of: Vec<usize>,
+    /// Conservative stand-in of each grown obstacle for occlusion (`None`: none).
+    occluders: Vec<Option<Occluder>>,
+    /// How far any approximation vertex lies outside its obstacle's indexed box, metres.
+    stick_out: f64,
+}
+
+/// A convex shape strictly inside a grown obstacle's interior (as the clearance test counts
+/// it): a segment that crosses it is blocked.
+#[derive(Debug, Clone)]
+enum Occluder {
+    /// Counter-clockwise vertices.
+    Polygon(Vec<DVec2>),
+    /// Centre and radius.
+    Disc(DVec2, f64),
+}
+
+impl Occluder {
+    /// The occluder of `blocker` for agent radius `r` and tolerance `eps`.
+    fn of(blocker: &Blocker, r: f64, eps: f64) -> Option<Occluder> {
+        match blocker {
+            Blocker::Disc { center, radius } => {
+                let inner = radius - 2.0 * eps - 1e-9 * radius;
+                (inner > 0.0).then_some(Occluder::Disc(*center, inner))
+            }
+            Blocker::Polygon { vertices, normals } => {
+                // Every point within `r - eps` of the polygon is blocked; offset the edges by
+                // at most half of that, so that even the offset corners stay well inside.
+                let room = 0.5 * (r - eps);
+                if !(room > 0.0) {
+                    return None;
+                }
+                let n = vertices.len();
+                let half_cos = |k: usize| (0.5 * (1.0 + normals[(k + n - 1) % n].dot(normals[k]))).max(0.0).sqrt();
+                let delta = room * (0..n).map(half_cos).fold(1.0, f64::min);
+                let offset = (0..n)
+                    .map(|k| {
+                        let (a, b) = (normals[(k + n - 1) % n], normals[k]);
+                        let c = 1.0 + a.dot(b);
+                        if c > 1e-9 { vertices[k] + (a + b) * (delta / c) } else { vertices[k] }
+                    })
+                    .collect();
+                Some(Occluder::Polygon(offset))
+            }
+        }
+    }
+
+    /// The open range of directions `(lo, hi)` (radians, `lo < hi`, within 2π of each other)
+    /// in which a ray from `p` crosses the occluder's interior, and the distance beyond which
+    /// every point of such a ray lies behind it; `None` when `p` is not clearly outside.
+    fn shadow(&self, p: DVec2) -> Option<(f64, f64, f64)> {
+        const SLACK: f64 = 1e-9;
+        match self {
+            Occluder::Disc(center, radius) => {
+                let to = *center - p;
+                let d = to.length();
+                if !(d > radius * (1.0 + 1e-9)) {
+                    return None;
+                }
+                let half = (radius / d).asin() - SLACK;
+                let mid = to.y.atan2(to.x);
+                (half > 0.0).then_some((mid - half, mid + half, d + radius))
+            }
+            Occluder::Polygon(vertices) => {
+                let n = vertices.len();
+                // Clearly outside: beyond some edge's line.
+                let outside = (0..n).any(|k| {
+                    let (a, b) = (vertices[k], vertices[(k + 1) % n]);
+                    (b - a).perp_dot(p - a) < -1e-9 * (b - a).length()
+                });
+                if !outside {
+                    return None;
+                }
+                let first = vertices[0] - p;
+                let base = first.y.atan2(first.x);
+                let (mut lo, mut hi, mut far) = (0.0f64, 0.0f64, 0.0f64);
+                for &v in vertices {
+                    let to = v - p;
+                    let rel = (to.y.atan2(to.x) - base + PI).rem_euclid(TAU) - PI;
+                    lo = lo.min(rel);
+                    hi = hi.max(rel);
+                    far = far.max(to.length());
+                }
+                let (lo, hi) = (base + lo + SLACK, base + hi - SLACK);
+                (lo < hi && hi - lo < PI).then_some((lo, hi, far))
+            }
+        }
+    }
+}
+
+/// The directions from one point known to be blocked beyond some distance: a union of open
+/// angular intervals, kept sorted and disjoint, over angles in `[-π, π]` (an interval across
+/// the seam is split, each piece running past it so the seam itself counts as covered).
+#[derive(Debug, Default)]
+struct Shade {
+    intervals: Vec<(f64, f64)>,
+}
+
+impl Shade {
+    fn add(&mut self, lo: f64, hi: f64) {
+        // Bring `lo` into [-π, π).
+        let shift = ((lo + PI) / TAU).floor() * TAU;
+        let (lo, hi) = (lo - shift, hi - shift);
+        if hi > PI {
+            self.insert(lo, PI + 1.0);
+            self.insert(-PI - 1.0, hi - TAU);
+        } else {
+            self.insert(lo, hi);
+        }
+    }
+
+    fn insert(&mut self, mut lo: f64, mut hi: f64) {
+        // Merge with every interval it overlaps (open intervals merge only when they overlap).
+        let at = self.intervals.partition_point(|&(_, h)| h <= lo);
+        let mut end = at;
+        while end < self.intervals.len() && self.intervals[end].0 < hi {
+            lo = lo.min(self.intervals[end].0);
+            hi = hi.max(self.intervals[end].1);
+            end += 1;
+        }
+        self.intervals.splice(at..end, [(lo, hi)]);
+    }
+
+    /// Whether the direction `theta` (radians in `[-π, π]`) is inside the shade.
+    fn covers(&self, theta: f64) -> bool {
+        let at = self.intervals.partition_point(|&(_, h)| h <= theta);
+        self.intervals.get(at).is_some_and(|&(lo, _)| lo < theta)
+    }
+
+    /// Whether every direction of the closed range `[lo, hi]` (radians, `hi - lo < π`) is
+    /// inside the shade.
+    fn covers_range(&self, lo: f64, hi: f64) -> bool {
+        let shift = ((lo + PI) / TAU).floor() * TAU;
+        let (lo, hi) = (lo - shift, hi - shift);
+        let inside = |lo: f64, hi: f64| {
+            let at = self.intervals.partition_point(|&(_, h)| h <= lo);
+            self.intervals.get(at).is_some_and(|&(l, h)| l < lo && hi < h)
+        };
+        if hi > PI { inside(lo, PI) && inside(-PI, hi - TAU) } else { inside(lo, hi) }
+    }
+
+    /// Whether every direction is shaded.
+    fn full(&self) -> bool {
+        matches!(self.intervals.as_slice(), [(lo, hi)] if *lo < -PI && *hi > PI)
+    }
+}
+
+/// An occluder waiting until the search radius passes its far distance.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    far: f64,
+    lo: f64,
+    hi: f64,
+}
+
 impl Graph {
-    /// Builds the graph; `None` when an approximation polygon cannot be built (coordinates out
+    /// Builds the nodes; `None` when an approximation polygon cannot be built (coordinates out
     /// of the supported range).
     pub(crate) fn build(clearance: &Clearance, radius: f64, arc_segments: usize) -> Option<Graph> {
         let mut scratch = Vec::new();
         let mut hulls = Vec::new();
         let mut nodes = Vec::new();
+        let mut hull_of = Vec::new();
+        let mut stick_out = 0.0f64;
         for (h, blocker) in clearance.blockers().iter().enumerate() {
             let vertices = approximation(blocker, radius, arc_segments)?;
             let n = vertices.len();
@@ -141,73 +295,155 @@ impl Graph {
                 let (e_in, e_out) = (pos - prev, next - pos);
                 let turn = e_in.perp_dot(e_out).atan2(e_in.dot(e_out)).clamp(0.0, PI);
                 ids[k] = Some(nodes.len());
+                hull_of.push(h);
                 let reach2 = e_in.length_squared().max(e_out.length_squared());
                 nodes.push(Node { pos, prev, next, heading_in: e_in.y.atan2(e_in.x), turn, reach2 });
             }
-            let center = clearance.grown_aabb(h).map_or(vertices[0], |b| b.center());
+            let aabb = clearance.grown_aabb(h);
+            if let Some(b) = aabb {
+                stick_out = vertices.iter().map(|&v| b.distance(v)).fold(stick_out, f64::max);
+            }
+            let center = aabb.map_or(vertices[0], |b| b.center());
             let bound = vertices.iter().map(|v| v.distance(center)).fold(0.0, f64::max) * (1.0 + 1e-9);
             hulls.push(Hull { vertices, nodes: ids, center, bound });
         }
+        let (r, eps) = clearance.radius_and_tolerance();
+        let occluders = clearance.blockers().iter().map(|b| Occluder::of(b, r, eps)).collect();
+        // Rounding slack on top of the measured amount.
+        let stick_out = stick_out * (1.0 + 1e-6) + 1e-9;
+        Some(Graph { hulls, nodes, hull_of, occluders, stick_out })
+    }
 
-        let mut adjacency = vec![Vec::new(); nodes.len()];
-        let add = |adjacency: &mut Vec<Vec<(usize, f64)>>, u: usize, v: usize, len: f64| {
-            adjacency[u].push((v, len));
-            adjacency[v].push((u, len));
-        };
-        for (a, hull) in hulls.iter().enumerate() {
-            let n = hull.vertices.len();
-            for k in 0..n {
-                let Some(u) = hull.nodes[k] else { continue };
-                let pu = nodes[u].pos;
-                // Sliding along the polygon boundary.
-                if let Some(v) = hull.nodes[(k + 1) % n]
-                    && v != u
-                    && clearance.segment_clear(pu, nodes[v].pos, &mut scratch)
-                {
-                    add(&mut adjacency, u, v, pu.distance(nodes[v].pos));
-                }
-                for other in &hulls[a + 1..] {
-                    if !nodes[u].may_support_towards(other.center, other.bound) {
-                        continue;
+    /// Calls `visit(hull, node)` for every node of every hull other than `skip` that might be
+    /// seen from `p`: nodes behind a nearer obstacle are left out (with `cull`; without it,
+    /// every node is visited). Hulls come nearest first; `wanted(hull)` may reject a hull
+    /// before its nodes are looked at.
+    fn candidates(
+        &self,
+        clearance: &Clearance,
+        p: DVec2,
+        skip: Option<usize>,
+        cull: bool,
+        mut wanted: impl FnMut(&Hull) -> bool,
+        mut visit: impl FnMut(usize),
+    ) {
+        let mut shade = Shade::default();
+        let mut pending: Vec<Pending> = Vec::new();
+        clearance.visit_nearest(p, |h, box_dist| {
+            if cull {
+                // Every node of this and later hulls lies at least this far from `p`.
+                let reach = box_dist - self.stick_out;
+                let mut k = 0;
+                while k < pending.len() {
+                    if pending[k].far < reach {
+                        let q = pending.swap_remove(k);
+                        shade.add(q.lo, q.hi);
+                    } else {
+                        k += 1;
                     }
-                    for &v in other.nodes.iter().flatten() {
-                        let pv = nodes[v].pos;
-                        if nodes[u].supports(pv)
-                            && nodes[v].supports(pu)
-                            && clearance.segment_clear(pu, pv, &mut scratch)
-                        {
-                            add(&mut adjacency, u, v, pu.distance(pv));
-                        }
+                }
+                if shade.full() {
+                    return false;
+                }
+                if let Some((lo, hi, far)) = self.occluders[h].as_ref().and_then(|o| o.shadow(p)) {
+                    pending.push(Pending { far, lo, hi });
+                }
+            }
+            let hull = &self.hulls[h];
+            if Some(h) == skip || !wanted(hull) {
+                return true;
+            }
+            if cull && let Some(b) = clearance.grown_aabb(h) {
+                // The whole polygon lies in its box grown by the stick-out; skip it at once
+                // when that box is in the shade.
+                let b = b.expanded(self.stick_out);
+                if !b.contains_point(p) {
+                    let corners = [b.min, DVec2::new(b.max.x, b.min.y), b.max, DVec2::new(b.min.x, b.max.y)];
+                    let first = corners[0] - p;
+                    let base = first.y.atan2(first.x);
+                    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+                    for c in corners {
+                        let to = c - p;
+                        let rel = (to.y.atan2(to.x) - base + PI).rem_euclid(TAU) - PI;
+                        lo = lo.min(rel);
+                        hi = hi.max(rel);
+                    }
+                    if hi - lo < PI && shade.covers_range(base + lo, base + hi) {
+                        return true;
                     }
                 }
             }
+            for &v in hull.nodes.iter().flatten() {
+                let to = self.nodes[v].pos - p;
+                if !cull || !shade.covers(to.y.atan2(to.x)) {
+                    visit(v);
+                }
+            }
+            true
+        });
+    }
+
+    /// The neighbours of node `u` with edge lengths in metres: the next vertices along its own
+    /// polygon and the vertices of other polygons joined by a clear bitangent segment.
+    pub(crate) fn neighbours(&self, clearance: &Clearance, u: usize, cull: bool, out: &mut Vec<(usize, f64)>) {
+        out.clear();
+        let node = &self.nodes[u];
+        let pu = node.pos;
+        let h = self.hull_of[u];
+        let hull = &self.hulls[h];
+        let n = hull.vertices.len();
+        if let Some(k) = hull.nodes.iter().position(|&x| x == Some(u)) {
+            for w in [(k + 1) % n, (k + n - 1) % n] {
+                if let Some(v) = hull.nodes[w]
+                    && v != u
+                    && clearance.segment_clear(pu, self.nodes[v].pos)
+                {
+                    out.push((v, pu.distance(self.nodes[v].pos)));
+                }
+            }
         }
-        for list in &mut adjacency {
-            list.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-            list.dedup_by_key(|x| x.0);
-        }
-        Some(Graph { hulls, nodes, adjacency })
+        self.candidates(
+            clearance,
+            pu,
+            Some(h),
+            cull,
+            |other| node.may_support_towards(other.center, other.bound),
+            |v| {
+                let pv = self.nodes[v].pos;
+                if node.supports(pv) && self.nodes[v].supports(pu) && clearance.segment_clear(pu, pv) {
+                    out.push((v, pu.distance(pv)));
+                }
+            },
+        );
+        out.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+        out.dedup_by_key(|x| x.0);
+    }
+
+    /// Whether node `u` joins the free point `p` by a clear segment along a line supporting
+    /// the node's polygon (any vertex of a polygon whose approximation contains `p`).
+    pub(crate) fn joins(&self, clearance: &Clearance, u: usize, p: DVec2) -> bool {
+        let node = &self.nodes[u];
+        (node.supports(p) || self.hulls[self.hull_of[u]].contains(p)) && clearance.segment_clear(p, node.pos)
     }
 
     /// Nodes that a free point `p` can see along a line supporting the node's polygon (any
     /// vertex of a polygon whose approximation contains `p`), with distances in metres,
     /// ascending by node.
-    pub(crate) fn endpoint_edges(
-        &self,
-        clearance: &Clearance,
-        p: DVec2,
-        scratch: &mut Vec<usize>,
-    ) -> Vec<(usize, f64)> {
+    pub(crate) fn endpoint_edges(&self, clearance: &Clearance, p: DVec2, cull: bool) -> Vec<(usize, f64)> {
         let mut out = Vec::new();
-        for hull in &self.hulls {
-            let inside = hull.contains(p);
-            for &v in hull.nodes.iter().flatten() {
-                let pv = self.nodes[v].pos;
-                if (inside || self.nodes[v].supports(p)) && clearance.segment_clear(p, pv, scratch) {
-                    out.push((v, p.distance(pv)));
+        self.candidates(
+            clearance,
+            p,
+            None,
+            cull,
+            |_| true,
+            |v| {
+                if self.joins(clearance, v, p) {
+                    out.push((v, p.distance(self.nodes[v].pos)));
                 }
-            }
-        }
+            },
+        );
+        out.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
         out
     }
 }
