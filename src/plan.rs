@@ -15,9 +15,15 @@
 //! rounded shapes (touching and sliding along a boundary is allowed, with the tolerance
 //! described on [`Planner`]). Edges whose line cuts into the polygon at one of its ends are
 //! left out: a shortest path only bends around the vertices it wraps, so only bitangent edges
-//! can be on it, and the pruning removes most candidate pairs. Dijkstra's algorithm then finds
-//! the shortest route. The world's parts are indexed with [`crate::geom::SpatialIndex`] over
-//! their grown boxes, so every segment test only looks at parts near the segment.
+//! can be on it, and the pruning removes most candidate pairs. A* with the straight-line
+//! distance to the goal (a consistent heuristic, so the result is Dijkstra's) finds the
+//! shortest route, and a node's edges are only looked for when the search expands it. Looking
+//! for them walks the obstacles nearest first and keeps the directions already hidden behind
+//! nearer obstacles (a conservative shape inside each grown part): vertices in those directions
+//! and beyond are never tested, and the walk ends once every direction is hidden, so the cost
+//! of an expansion depends on what is in sight, not on the size of the map. The world's parts
+//! are indexed with [`crate::geom::SpatialIndex`] over their grown boxes; a segment test visits
+//! the boxes along the segment front to back and stops at the first part that blocks it.
 //!
 //! Accuracy: the returned path is always clear of the exact grown shapes, so its length is at
 //! least the true optimum; it is at most the optimum among the approximation polygons, which
@@ -29,6 +35,8 @@
 //!   `agent_radius - tolerance` metres from every world part.
 //! - `Path::length` equals [`path_length`] of `Path::points`.
 //! - Results are deterministic: no hashing, ties in the search are broken by node index.
+//! - Skipping hidden obstacles never changes a result (test
+//!   `hiding_what_is_behind_nearer_obstacles_changes_no_path`).
 //! - Nothing panics on bad input: non-finite points or radii give `None`.
 //!
 //! Units: metres throughout.
