@@ -32,7 +32,8 @@ pub struct EpisodeRecord {
     pub time_s: f64,
     /// Distance travelled, metres.
     pub path_length_m: f64,
-    /// Shortest collision-free path for the agent's disc, metres (`None`: no path exists).
+    /// Shortest collision-free path for the agent's disc into the goal circle (the shortest
+    /// path to the goal point less the goal radius), metres (`None`: no path exists).
     pub optimal_length_m: Option<f64>,
     /// `path_length_m / optimal_length_m` for reached episodes.
     pub path_ratio: Option<f64>,
@@ -141,7 +142,10 @@ pub fn run_episode(
     seed: u64,
 ) -> Episode {
     let task = scenario.tasks[task_index];
-    let optimal = plan::shortest_path(world, task.start.position, task.goal, params.limits.radius).map(|p| p.length);
+    // The episode ends on entering the goal circle, so the optimum does too: the shortest path
+    // to the goal point, less the goal radius (its last leg is straight and crosses the circle).
+    let optimal = plan::shortest_path(world, task.start.position, task.goal, params.limits.radius)
+        .map(|p| (p.length - task.goal_radius).max(0.0));
     let mut sim = Simulation::new(world.clone(), params.clone());
     sim.add_agent(task, controller);
     while !sim.all_done() {
@@ -218,9 +222,23 @@ pub fn run_batch(
     params: &StepParameters,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EpisodeRecord> {
-    jobs.par_iter()
-        .enumerate()
-        .map(|(i, job)| {
+    run_batch_of(jobs.len(), &|i| jobs[i].clone(), controller, params, progress)
+}
+
+/// Runs `count` episodes in parallel, episode `i` being `job(i)`, made when the episode starts
+/// (so a batch of generated worlds holds only the worlds being run), and returns records in
+/// episode order. `progress` is called once per finished episode, from worker threads.
+pub fn run_batch_of(
+    count: usize,
+    job: &(dyn Fn(usize) -> Job + Sync),
+    controller: &LayeredController,
+    params: &StepParameters,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<EpisodeRecord> {
+    (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let job = job(i);
             let world = job.scenario.world();
             let mut p = params.clone();
             p.limits.radius = job.scenario.agent_radius;
