@@ -5,6 +5,8 @@
 //! Invariant: a batch's records come back in episode order and each episode depends only on
 //! its scenario, rules and seed, so results are identical whatever the thread count.
 
+use std::sync::{Arc, Mutex, OnceLock};
+
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -32,7 +34,8 @@ pub struct EpisodeRecord {
     pub time_s: f64,
     /// Distance travelled, metres.
     pub path_length_m: f64,
-    /// Shortest collision-free path for the agent's disc, metres (`None`: no path exists).
+    /// Shortest collision-free path for the agent's disc into the goal circle (the shortest
+    /// path to the goal point less the goal radius), metres (`None`: no path exists).
     pub optimal_length_m: Option<f64>,
     /// `path_length_m / optimal_length_m` for reached episodes.
     pub path_ratio: Option<f64>,
@@ -157,11 +160,13 @@ pub fn run_episode_with(
     seed: u64,
 ) -> Episode {
     let task = scenario.tasks[task_index];
+    // The episode ends on entering the goal circle, so the optimum does too: the shortest path
+    // to the goal point, less the goal radius (its last leg is straight and crosses the circle).
     let optimal = match planner {
         Some(planner) => planner.shortest_path(task.start.position, task.goal),
         None => plan::shortest_path(world, task.start.position, task.goal, params.limits.radius),
     }
-    .map(|p| p.length);
+    .map(|p| (p.length - task.goal_radius).max(0.0));
     let mut sim = Simulation::new(world.clone(), params.clone());
     sim.add_agent(task, controller);
     while !sim.all_done() {
@@ -218,7 +223,7 @@ pub fn walking_speed(params: &StepParameters) -> f64 {
 #[derive(Debug, Clone)]
 pub struct Job {
     /// The scenario (shared worlds are cheap to clone per job).
-    pub scenario: std::sync::Arc<Scenario>,
+    pub scenario: Arc<Scenario>,
     /// Task index.
     pub task: usize,
     /// Episode seed.
@@ -238,29 +243,45 @@ pub fn run_batch(
     params: &StepParameters,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EpisodeRecord> {
-    // Scenarios that several jobs share (many tasks in one map) build their optimal-path
-    // planner once, when the first of their episodes needs it.
-    let key = |job: &Job| std::sync::Arc::as_ptr(&job.scenario) as usize;
-    let mut shared: Vec<usize> = jobs.iter().map(key).collect();
-    shared.sort_unstable();
-    let mut repeated = Vec::new();
-    for w in shared.windows(2) {
-        if w[0] == w[1] && repeated.last() != Some(&w[0]) {
-            repeated.push(w[0]);
+    run_batch_of(jobs.len(), &|i| jobs[i].clone(), controller, params, progress)
+}
+
+/// Runs `count` episodes in parallel, episode `i` being `job(i)`, made when the episode starts
+/// (so a batch of generated worlds holds only the worlds being run), and returns records in
+/// episode order. `progress` is called once per finished episode, from worker threads.
+pub fn run_batch_of(
+    count: usize,
+    job: &(dyn Fn(usize) -> Job + Sync),
+    controller: &LayeredController,
+    params: &StepParameters,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<EpisodeRecord> {
+    // A scenario with several tasks is usually run once per task: its optimal-path planner is
+    // built once, by the first episode that needs it, and shared.
+    type Slot = Arc<OnceLock<Option<plan::Planner>>>;
+    let shared: Mutex<Vec<(Arc<Scenario>, Slot)>> = Mutex::new(Vec::new());
+    let slot_of = |scenario: &Arc<Scenario>| -> Option<Slot> {
+        if scenario.tasks.len() < 2 {
+            return None;
         }
-    }
-    let planners: Vec<std::sync::OnceLock<Option<plan::Planner>>> =
-        repeated.iter().map(|_| std::sync::OnceLock::new()).collect();
-    jobs.par_iter()
-        .enumerate()
-        .map(|(i, job)| {
+        let mut list = shared.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, slot)) = list.iter().find(|(s, _)| Arc::ptr_eq(s, scenario)) {
+            return Some(slot.clone());
+        }
+        let slot = Slot::default();
+        list.push((scenario.clone(), slot.clone()));
+        Some(slot)
+    };
+    (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let job = job(i);
             let world = job.scenario.world();
             let mut p = params.clone();
             p.limits.radius = job.scenario.agent_radius;
-            let planner = repeated
-                .binary_search(&key(job))
-                .ok()
-                .and_then(|k| planners[k].get_or_init(|| plan::Planner::new(&world, p.limits.radius)).as_ref());
+            let slot = slot_of(&job.scenario);
+            let planner =
+                slot.as_ref().and_then(|s| s.get_or_init(|| plan::Planner::new(&world, p.limits.radius)).as_ref());
             let e = run_episode_with(&job.scenario, &world, planner, job.task, controller, &p, i, job.seed);
             progress();
             e.record

@@ -17,8 +17,8 @@ pub mod rule;
 pub mod term;
 
 pub use engine::{
-    Activation, Comparison, Defuzzifier, Engine, EngineError, EngineKind, InputVariable, NamedTerm, OutputVariable,
-    RuleBlock, WeightedKind,
+    Activation, Comparison, Defuzzifier, Engine, EngineError, EngineKind, InputVariable, Item, NamedTerm,
+    OutputVariable, RuleBlock, WeightedKind,
 };
 pub use inference::{Inference, RuleActivation};
 pub use network::Network;

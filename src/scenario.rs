@@ -14,6 +14,9 @@ use crate::world::{Obstacle, Task, World};
 /// Default agent radius, metres.
 pub const DEFAULT_AGENT_RADIUS: f64 = 0.3;
 
+/// Largest start or goal coordinate, metres: worlds are at most 200 km across.
+pub const MAX_COORDINATE_M: f64 = 100_000.0;
+
 /// A world description with its tasks.
 #[derive(Debug, Clone)]
 pub struct Scenario {
@@ -90,8 +93,23 @@ impl Scenario {
             if !(t.goal_radius.is_finite() && t.goal_radius > 0.0) {
                 return Err(format!("task {n}: goal radius must be positive, found {}", t.goal_radius));
             }
-            if !(t.time_limit_s.is_finite() && t.time_limit_s > 0.0) {
-                return Err(format!("task {n}: time limit must be positive, found {}", t.time_limit_s));
+            if !(t.time_limit_s.is_finite() && t.time_limit_s > 0.0 && t.time_limit_s <= Task::MAX_TIME_LIMIT_S) {
+                return Err(format!(
+                    "task {n}: time limit must be positive and at most {} s, found {}",
+                    Task::MAX_TIME_LIMIT_S,
+                    t.time_limit_s
+                ));
+            }
+            for (what, p) in [("start", t.start.position), ("goal", t.goal)] {
+                if p.abs().max_element() > MAX_COORDINATE_M {
+                    return Err(format!(
+                        "task {n}: the {what} ({}, {}) is farther than {MAX_COORDINATE_M} m from the origin along an axis",
+                        p.x, p.y
+                    ));
+                }
+            }
+            if t.goal_radius > MAX_COORDINATE_M {
+                return Err(format!("task {n}: goal radius {} is larger than {MAX_COORDINATE_M} m", t.goal_radius));
             }
             if let Some(o) = inside(t.start.position) {
                 return Err(format!(

@@ -98,6 +98,27 @@ pub fn hardened_engine(limits: Limits, log: &ScriptLog) -> rhai::Engine {
     engine
 }
 
+/// What a script value is, in the words of the script API (`a world`, `a fuzzy engine`, `an
+/// integer`…), for messages about a script that returned or passed the wrong thing.
+pub fn value_kind(value: &rhai::Dynamic) -> String {
+    if value.is::<map_api::MapHandle>() {
+        return "a world (the result of a map script)".into();
+    }
+    if value.is::<fuzzy_api::EngineHandle>() {
+        return "a fuzzy engine".into();
+    }
+    let name = match value.type_name() {
+        "i64" => "integer",
+        "f64" => "number",
+        "bool" => "boolean",
+        "()" => "nothing (unit)",
+        "char" => "character",
+        other => other.rsplit("::").next().unwrap_or(other),
+    };
+    let article = if name.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" };
+    if name.starts_with("nothing") { name.to_string() } else { format!("{article} {name}") }
+}
+
 /// Converts a Rhai failure into a located error in `file`.
 pub fn script_error(file: &str, err: &rhai::EvalAltResult) -> SourceError {
     let pos = err.position();

@@ -412,12 +412,10 @@ pub fn update_requested() -> bool {
 /// Loads the episode a [`Spec`] describes (map, rules, body; the episode numbered as in
 /// `strider run`). Errors name the file at fault.
 pub fn load(spec: &Spec) -> Result<Episode, Error> {
-    use crate::cli::run::{jobs, load_controller, load_map};
+    use crate::cli::run::{job, load_controller, load_map};
     let source = load_map(&spec.map, spec.scen.as_deref())?;
     let controller = load_controller(spec.rules.as_deref())?;
-    let job = jobs(&source, Some(spec.episode + 1), spec.seed)?
-        .pop()
-        .ok_or_else(|| Error::Input(anyhow::anyhow!("{}: no episode to run", spec.map)))?;
+    let job = job(&source, spec.episode, spec.seed);
     let animation = crate::cli::anim::load_animation(&spec.body)?;
     Ok(Episode::new(job.scenario, job.task, job.seed, controller, animation))
 }

@@ -296,7 +296,16 @@ fn errors_name_file_line_and_column() {
         (edit(WALKER, "CHANNELS 1 Xrotation", "CHANNELS x Xrotation"), "walker.bvh:22:13: bad channel count 'x'"),
         (edit(WALKER, "Frames: 2", "Frames: two"), "walker.bvh:40:9: bad frame count 'two'"),
         (edit(WALKER, "Time: 0.04", "Time: inf"), "walker.bvh:41:13: non-finite number 'inf'"),
-        (edit(WALKER, "Time: 0.04", "Time: -0.04"), "walker.bvh:41:13: frame time must be positive, not -0.04"),
+        (
+            edit(WALKER, "Time: 0.04", "Time: -0.04"),
+            "walker.bvh:41:13: frame time must be positive and at most 1 s, not -0.04",
+        ),
+        (
+            edit(WALKER, "Time: 0.04", "Time: 100"),
+            "walker.bvh:41:13: frame time must be positive and at most 1 s, not 100",
+        ),
+        (edit(WALKER, "0 0 -90 0 0", "0 0 1e308 0 0"), "walker.bvh:43:29: number '1e308' is beyond ±1e6"),
+        (edit(WALKER, "OFFSET 0.0 0.5 0.0", "OFFSET 0.0 1e308 0.0"), "walker.bvh:8:14: number '1e308' is beyond ±1e6"),
         (edit(WALKER, "0 0 -90 0 0", "0 0 NaN 0 0"), "walker.bvh:43:29: non-finite number 'NaN'"),
         (edit(WALKER, "-90 0 0\n", "-90 0 0 7\n"), "walker.bvh:43:37: frame line has more than 15 values"),
         (edit(WALKER, "-90 0 0\n", "-90 0\n"), "walker.bvh:43:35: frame line has 14 values, expected 15"),
@@ -305,6 +314,19 @@ fn errors_name_file_line_and_column() {
     for (text, want) in &cases {
         assert_eq!(&error(text), want);
     }
+}
+
+#[test]
+fn a_hierarchy_100000_joints_deep_is_refused_at_once() {
+    let n = 100_000;
+    let mut text = String::from("HIERARCHY\nROOT j0\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zposition\n");
+    for i in 1..n {
+        text += &format!("JOINT j{i}\n{{\nOFFSET 0 1 0\n");
+    }
+    text += &"}\n".repeat(n);
+    text += "MOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
+    let err = error(&text);
+    assert_eq!(err, format!("walker.bvh:{}:1: joint hierarchy deeper than 256 levels", 6 + 3 * 255), "{err}");
 }
 
 #[test]

@@ -28,6 +28,18 @@ use super::clip::Clip;
 use super::skeleton::{Channel, Joint, Pose, Skeleton};
 use crate::diagnostic::SourceError;
 
+/// Deepest joint hierarchy accepted (a human skeleton is about 10 deep, hands included).
+pub const MAX_DEPTH: usize = 256;
+
+/// Most joints accepted in one file.
+pub const MAX_JOINTS: usize = 4096;
+
+/// Largest magnitude of any number in a file (offsets, positions, angles in degrees).
+pub const MAX_VALUE: f64 = 1e6;
+
+/// Longest frame time accepted, seconds.
+pub const MAX_FRAME_TIME_S: f64 = 1.0;
+
 /// Import and export settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BvhOptions {
@@ -231,7 +243,8 @@ impl<'a> Cursor<'a> {
 /// A finite number, or why the text is not one.
 fn number(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) if v.abs() <= MAX_VALUE => Ok(v),
+        Ok(v) if v.is_finite() => Err(format!("number '{}' is beyond ±{MAX_VALUE:e}", shown(text))),
         Ok(_) => Err(format!("non-finite number '{}'", shown(text))),
         Err(_) => Err(format!("bad number '{}'", shown(text))),
     }
@@ -317,6 +330,12 @@ fn parse_hierarchy<'a>(
                 }
             }
             "JOINT" => {
+                if open.len() >= MAX_DEPTH {
+                    return Err(cur.error_at(token, format!("joint hierarchy deeper than {MAX_DEPTH} levels")));
+                }
+                if joints.len() >= MAX_JOINTS {
+                    return Err(cur.error_at(token, format!("more than {MAX_JOINTS} joints")));
+                }
                 open.push(begin_joint(cur, Some(j), &mut joints, &mut names)?);
                 seen.push(Seen { offset: false, channels: false });
             }
@@ -419,8 +438,11 @@ fn parse_motion(
     cur.expect("Time:")?;
     let time_token = cur.expect_any("a frame time")?;
     let frame_time = number(time_token.text).map_err(|m| cur.error_at(time_token, m))?;
-    if frame_time <= 0.0 {
-        return Err(cur.error_at(time_token, format!("frame time must be positive, not {frame_time}")));
+    if !(frame_time > 0.0 && frame_time <= MAX_FRAME_TIME_S) {
+        return Err(cur.error_at(
+            time_token,
+            format!("frame time must be positive and at most {MAX_FRAME_TIME_S} s, not {frame_time}"),
+        ));
     }
     let trailing = cur.rest_of_line();
     if !trailing.text.is_empty() {
@@ -850,7 +872,7 @@ mod tests {
         assert_eq!(err(no_hierarchy), "e.bvh:1:1: expected 'HIERARCHY', found 'ROOT'");
         assert_eq!(err(""), "e.bvh:1:1: unexpected end of file, expected 'HIERARCHY'");
         let zero_time = SMALL.replace("Time: 0.5", "Time: 0");
-        assert_eq!(err(&zero_time), "e.bvh:15:13: frame time must be positive, not 0");
+        assert_eq!(err(&zero_time), "e.bvh:15:13: frame time must be positive and at most 1 s, not 0");
         let no_frames = SMALL.replace("1 2 3 9 90\n", "\n  \n");
         assert_eq!(err(&no_frames), "e.bvh:14:9: the file has no frames");
         let scale = parse(SMALL, "e.bvh", "e", &BvhOptions { scale: 0.0 }).unwrap_err();

@@ -198,7 +198,16 @@ pub enum DbError {
     /// Frame time not positive.
     #[error("clip '{0}' has a non-positive frame time")]
     FrameTime(String),
+    /// K or the number of samples outside its range.
+    #[error("{0}")]
+    Params(String),
 }
+
+/// Most neighbours per interval, K.
+pub const MAX_K: usize = 64;
+
+/// Most normalized time samples per interval (Eq. 2).
+pub const MAX_SAMPLES: usize = 1000;
 
 /// A hand-written interval: frames `start..=end` of the clip named `clip`.
 #[derive(Debug, Clone, PartialEq)]
@@ -544,6 +553,18 @@ impl Database {
     ) -> Result<Database, DbError> {
         if clips.is_empty() {
             return Err(DbError::NoClips);
+        }
+        if !(1..=MAX_K).contains(&params.k) {
+            return Err(DbError::Params(format!(
+                "K (neighbours per interval) must be in 1..={MAX_K}, found {}",
+                params.k
+            )));
+        }
+        if !(1..=MAX_SAMPLES).contains(&params.samples) {
+            return Err(DbError::Params(format!(
+                "samples per interval must be in 1..={MAX_SAMPLES}, found {}",
+                params.samples
+            )));
         }
         for c in &clips {
             if !(c.frame_time > 0.0) || !c.frame_time.is_finite() {
@@ -1246,6 +1267,17 @@ pub(crate) mod tests {
             .iter()
             .map(|i| IntervalSpec { clip: db.clips[i.clip].name.clone(), start: i.start, end: i.end })
             .collect()
+    }
+
+    #[test]
+    fn k_zero_or_too_large_is_an_error() {
+        let db = database();
+        let specs = manual(&db);
+        for k in [0, MAX_K + 1] {
+            let params = DbParams { k, ..DbParams::default() };
+            let err = Database::build(db.clips.clone(), db.skeleton.clone(), params, Some(&specs)).unwrap_err();
+            assert!(matches!(err, DbError::Params(_)), "{err}");
+        }
     }
 
     #[test]

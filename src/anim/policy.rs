@@ -274,6 +274,13 @@ pub enum PolicyError {
 
 /// File format version written by [`Policy::to_bytes`].
 pub const FORMAT_VERSION: u32 = 3;
+
+/// Most training episodes a policy may count (about 10¹²: years of training at the rates
+/// `strider train` reaches).
+pub const MAX_EPISODES: u64 = 1 << 40;
+
+/// Longest training episode a policy file may ask for, intervals (ten times the default).
+pub const MAX_EPISODE_LENGTH: usize = 256;
 const MAGIC: &[u8; 8] = b"STRDRPOL";
 
 /// How the sampled states of a database map onto stored values: a state and its mirror share
@@ -589,7 +596,7 @@ impl Policy {
         let mut before = self.greedy();
         let mut round = 0u64;
         while self.episodes < target {
-            let end = (self.episodes + ROUND).min(target);
+            let end = self.episodes.saturating_add(ROUND).min(target);
             for ep in self.episodes..end {
                 self.episode(db, ep);
             }
@@ -780,6 +787,9 @@ impl Policy {
         }
         let r = &mut Reader { b: body, at: 12 };
         let (fingerprint, seed, episodes) = (r.u64()?, r.u64()?, r.u64()?);
+        if episodes > MAX_EPISODES {
+            return Err(PolicyError::Malformed("episode count"));
+        }
         let grid =
             StateGrid { speed_cells: r.u32()? as usize, speed_range: r.f64()?, direction_cells: r.u32()? as usize };
         if grid.speed_cells == 0
@@ -795,7 +805,7 @@ impl Policy {
             *x = r.f64()?;
         }
         let episode_length = r.u32()? as usize;
-        if episode_length == 0 || episode_length > 1 << 16 {
+        if episode_length == 0 || episode_length > MAX_EPISODE_LENGTH {
             return Err(PolicyError::Malformed("episode length"));
         }
         let params = LearnParams {
@@ -1039,6 +1049,23 @@ mod tests {
         assert_eq!(g.cell(99.0, 0.0), g.cell(1.5, 0.0));
         // Direction samples every 10°.
         assert!((g.value(1).1 - g.value(0).1 - 10f64.to_radians()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn episode_counts_and_lengths_beyond_the_limits_are_malformed() {
+        let (db, p) = trained(ROUND);
+        let rewrite = |at: usize, field: &[u8]| {
+            let mut b = p.to_bytes();
+            b[at..at + field.len()].copy_from_slice(field);
+            let n = b.len() - 8;
+            let mut h = Fnv::default();
+            h.bytes(&b[..n]);
+            b[n..].copy_from_slice(&h.0.to_le_bytes());
+            Policy::from_bytes(&b, &db)
+        };
+        assert!(rewrite(28, &ROUND.to_le_bytes()).is_ok());
+        assert_eq!(rewrite(28, &u64::MAX.to_le_bytes()).unwrap_err(), PolicyError::Malformed("episode count"));
+        assert_eq!(rewrite(148, &(1u32 << 16).to_le_bytes()).unwrap_err(), PolicyError::Malformed("episode length"));
     }
 
     #[test]

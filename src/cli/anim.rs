@@ -14,7 +14,8 @@ use anyhow::{Context, anyhow};
 use clap::{Args, Subcommand, ValueEnum};
 use serde::{Deserialize, Serialize};
 
-use super::{Failure, Outcome, write_atomic};
+use super::files::{self, outln, write_atomic};
+use super::{Failure, Outcome};
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::player::{PlayerParams, TransitionKind};
 use crate::anim::policy::{LearnParams, Policy, StateGrid, Strategy};
@@ -167,7 +168,7 @@ pub fn builtin_database() -> Result<Database, Failure> {
 pub const DEFAULT_POLICY: &[u8] = include_bytes!("../../assets/default.policy");
 
 fn read_bvh(path: &Path, scale: f64) -> Result<(Skeleton, Clip), Failure> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = files::read_text(path)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "clip".into());
     let b = bvh::parse(&text, &path.display().to_string(), &name, &BvhOptions { scale })?;
     for w in &b.warnings {
@@ -187,7 +188,7 @@ fn same_skeleton(a: &Skeleton, b: &Skeleton) -> bool {
 /// Loads a database directory.
 pub fn load_database(dir: &Path) -> Result<Database, Failure> {
     let path = dir.join(MANIFEST);
-    let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = files::read_text(&path)?;
     let m: Manifest = serde_json::from_str(&text)
         .map_err(|e| SourceError::new(&path.display().to_string(), e.line(), e.column(), e.to_string()))?;
     if m.format != FORMAT || m.version != 1 {
@@ -278,6 +279,9 @@ pub fn db(command: DbCommand) -> Outcome {
             if !(a.scale > 0.0) || !a.scale.is_finite() {
                 return Err(anyhow!("--scale must be a positive number").into());
             }
+            if !(1..=crate::anim::db::MAX_K).contains(&a.k) {
+                return Err(anyhow!("--k must be in 1..={}, found {}", crate::anim::db::MAX_K, a.k).into());
+            }
             let mut skeleton: Option<Skeleton> = None;
             let mut clips: Vec<Clip> = Vec::new();
             for p in &a.bvh {
@@ -296,7 +300,7 @@ pub fn db(command: DbCommand) -> Outcome {
             }
             let manual = match &a.intervals {
                 Some(p) => {
-                    let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+                    let text = files::read_text(p)?;
                     Some(parse_intervals(&text, &p.display().to_string())?)
                 }
                 None => None,
@@ -304,14 +308,14 @@ pub fn db(command: DbCommand) -> Outcome {
             let skeleton = skeleton.ok_or_else(|| anyhow!("no BVH files"))?;
             let params = DbParams { k: a.k, ..DbParams::default() };
             let db = Database::build(clips, skeleton, params, manual.as_deref()).map_err(|e| anyhow!("{e}"))?;
-            save_database(&db, &a.out)?;
-            println!(
+            files::replace_dir(&a.out, |dir| save_database(&db, dir))?;
+            outln!(
                 "{} intervals from {} clips, K = {}, written to {}",
                 db.intervals.len(),
                 db.clips.len(),
                 db.params.k,
                 a.out.display()
-            );
+            )?;
             Ok(())
         }
         DbCommand::Info { dir } => {
@@ -319,7 +323,7 @@ pub fn db(command: DbCommand) -> Outcome {
                 Some(d) => load_database(d)?,
                 None => builtin_database()?,
             };
-            print!("{}", describe(&db, dir.as_deref()));
+            files::write_stdout(format_args!("{}", describe(&db, dir.as_deref())))?;
             Ok(())
         }
         DbCommand::Track { dir, policy, transition } => {
@@ -327,31 +331,38 @@ pub fn db(command: DbCommand) -> Outcome {
             let anim = load_animation(&body)?.ok_or_else(|| anyhow!("no animation"))?;
             let f = crate::sim::measure_tracking(&anim.0, 1.35, 0.8);
             let phases = crate::sim::animated::PHASES;
-            println!(
+            outln!(
                 "90° heading change, walking: left {:.2} s, right {:.2} s (within 10°; mean of {phases} phases, slowest {:.2} / {:.2} s)",
-                f.turn_left_90_s, f.turn_right_90_s, f.worst_s[0], f.worst_s[1]
-            );
-            println!(
+                f.turn_left_90_s,
+                f.turn_right_90_s,
+                f.worst_s[0],
+                f.worst_s[1]
+            )?;
+            outln!(
                 "speed change 0.8 → 1.35 m/s: {:.2} s; 1.35 → 0.8 m/s: {:.2} s (within 10 %; mean of {phases} phases, slowest {:.2} / {:.2} s)",
-                f.speed_up_s, f.slow_down_s, f.worst_s[2], f.worst_s[3]
-            );
-            println!("RMS distance, commanded path to root path (60 s of varied commands): {:.3} m", f.rms_path_m);
-            println!(
+                f.speed_up_s,
+                f.slow_down_s,
+                f.worst_s[2],
+                f.worst_s[3]
+            )?;
+            outln!("RMS distance, commanded path to root path (60 s of varied commands): {:.3} m", f.rms_path_m)?;
+            outln!(
                 "foot skating (heel and toe): {:.3} cm/frame at 60 Hz; plants sliding under 2 cm: {:.1}%",
                 f.foot_skating_cm_per_frame,
                 100.0 * f.steady_plant_share
-            );
-            println!(
+            )?;
+            outln!(
                 "transitions: {:.2} per second; mean transition cost {:.4}",
-                f.transitions_per_s, f.transition_cost
-            );
+                f.transitions_per_s,
+                f.transition_cost
+            )?;
             Ok(())
         }
         DbCommand::Strip(a) => super::db_strip::run(a),
         DbCommand::Export { out } => {
             let db = builtin_database()?;
-            save_database(&db, &out)?;
-            println!("{} clips, {} intervals written to {}", db.clips.len(), db.intervals.len(), out.display());
+            files::replace_dir(&out, |dir| save_database(&db, dir))?;
+            outln!("{} clips, {} intervals written to {}", db.clips.len(), db.intervals.len(), out.display())?;
             Ok(())
         }
     }
@@ -405,13 +416,26 @@ pub fn describe(db: &Database, dir: Option<&Path>) -> String {
 
 /// `strider train`.
 pub fn train(a: TrainArgs) -> Outcome {
+    let max = crate::anim::policy::MAX_EPISODES;
+    if !(1..=max).contains(&a.episodes) {
+        return Err(anyhow!("--episodes must be in 1..={max}, found {}", a.episodes).into());
+    }
+    files::check_writable(&a.out)?;
     let db = match &a.db {
         Some(d) => load_database(d)?,
         None => builtin_database()?,
     };
     let mut policy = if a.resume {
-        let bytes = std::fs::read(&a.out).with_context(|| format!("cannot read {}", a.out.display()))?;
+        let bytes = files::read_bytes(&a.out)?;
         let p = Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+        if p.episodes >= a.episodes {
+            return Err(anyhow!(
+                "{}: already trained for {} episodes; give --episodes above that to go on",
+                a.out.display(),
+                p.episodes
+            )
+            .into());
+        }
         eprintln!("resuming at {} episodes (seed {})", p.episodes, p.seed);
         p
     } else {
@@ -429,11 +453,22 @@ pub fn train(a: TrainArgs) -> Outcome {
     let mut write_error = None;
     let started = std::time::Instant::now();
     let out = a.out.clone();
+    // Ctrl-C or a termination signal stops training between two rounds, where no temporary
+    // file exists: the last checkpoint stays the policy file.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(signal, stop.clone()).context("cannot install the signal handler")?;
+    }
     policy.train(
         &db,
         target,
         50,
         &mut |p| {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                bar.finish_and_clear();
+                eprintln!("interrupted after {} episodes; {} holds the last checkpoint", p.episodes, out.display());
+                std::process::exit(130);
+            }
             bar.set_position(p.episodes);
             bar.set_message(format!("best action changed in {:.2}% of states", 100.0 * p.changed));
             last_changed = p.changed;
@@ -455,7 +490,7 @@ pub fn train(a: TrainArgs) -> Outcome {
     }
     write_atomic(&a.out, &policy.to_bytes()).with_context(|| format!("cannot write {}", a.out.display()))?;
     let secs = started.elapsed().as_secs_f64();
-    println!(
+    outln!(
         "trained {} episodes in {secs:.1} s; {} of {} sampled states visited; {}; written to {}",
         policy.episodes,
         policy.visited_states(),
@@ -468,17 +503,17 @@ pub fn train(a: TrainArgs) -> Outcome {
             ),
         },
         a.out.display()
-    );
-    println!(
+    )?;
+    outln!(
         "mirrored states picking the mirrored candidate: {:.1}%; action values never updated: {:.1}%",
         100.0 * policy.mirror_agreement(&db),
         100.0 * policy.untouched_share()
-    );
-    println!("held-out episodes of the training MDP ({HELD_OUT_EPISODES}, drawn as training draws them):");
-    println!("  {:<10} {:>12} {:>13}", "strategy", "mean return", "task success");
+    )?;
+    outln!("held-out episodes of the training MDP ({HELD_OUT_EPISODES}, drawn as training draws them):")?;
+    outln!("  {:<10} {:>12} {:>13}", "strategy", "mean return", "task success")?;
     for s in Strategy::ALL {
         let e = crate::anim::policy::evaluate(&db, &policy, s, HELD_OUT_EPISODES, a.seed);
-        println!("  {:<10} {:>12.4} {:>12.1}%", s.name(), e.mean_return, 100.0 * e.task_success);
+        outln!("  {:<10} {:>12.4} {:>12.1}%", s.name(), e.mean_return, 100.0 * e.task_success)?;
     }
     Ok(())
 }
@@ -502,7 +537,7 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
             Policy::new(&db, StateGrid::default(), LearnParams::default(), 0)
         }
         (Some(p), _) => {
-            let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+            let bytes = files::read_bytes(p)?;
             Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
         }
         (None, None) => Policy::from_bytes(DEFAULT_POLICY, &db).map_err(|e| anyhow!("assets/default.policy: {e}"))?,

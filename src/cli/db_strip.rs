@@ -78,7 +78,13 @@ pub fn run(a: StripArgs) -> Outcome {
     draw_strip(&poses, &mut painter);
     let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
     write_atomic(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
-    println!("{} poses of '{}' ({} frames) written to {}", poses.len(), clip.name, clip.frames.len(), a.out.display());
+    super::files::outln!(
+        "{} poses of '{}' ({} frames) written to {}",
+        poses.len(),
+        clip.name,
+        clip.frames.len(),
+        a.out.display()
+    )?;
     Ok(())
 }
 

@@ -18,19 +18,21 @@
 //! `frames`, `changed`, `divergence_s` (`()` when the trajectories agree) and `report`. A
 //! script whose snapshots did not all match exits with code 1.
 //! The functions here do file IO and run simulations, so they live with the front-ends and
-//! are registered on top of the one hardened script engine. `print` goes to stdout.
+//! are registered on top of the one hardened script engine. `print` goes to stdout (it is the
+//! script's data), `debug` to stderr, also when the script fails. A script runs at most
+//! [`MAX_SCRIPT_EPISODES`] episodes in all.
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::sync::Arc;
 
-use anyhow::{Context, anyhow};
+use anyhow::anyhow;
 use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use super::anim::{BodyArgs, BodyKind, load_animation};
-use super::run::{MapSource, jobs, load_map};
+use super::run::{MapSource, job, load_map};
 use super::{Failure, Outcome};
 use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::{self, EpisodeRecord, Summary};
@@ -60,10 +62,9 @@ fn engines(rules: &Array) -> Res<Vec<Engine>> {
         .iter()
         .enumerate()
         .map(|(i, r)| {
-            r.clone()
-                .try_cast::<EngineHandle>()
-                .map(|h| fuzzy_api::engine_of(&h))
-                .ok_or_else(|| format!("rules item {} is a {}, not a fuzzy engine", i + 1, r.type_name()).into())
+            r.clone().try_cast::<EngineHandle>().map(|h| fuzzy_api::engine_of(&h)).ok_or_else(|| {
+                format!("rules item {} is {}, not a fuzzy engine", i + 1, crate::script::value_kind(r)).into()
+            })
         })
         .collect()
 }
@@ -114,20 +115,56 @@ fn seed_of(seed: i64) -> Res<u64> {
     u64::try_from(seed).map_err(|_| format!("seed must be ≥ 0, found {seed}").into())
 }
 
-fn batch(source: &MapSource, episodes: i64, seed: i64, rules: &Array) -> Res<Map> {
+/// Most episodes one experiment script may run in all (`run_episode` and `run_batch`
+/// together): the operation limit counts a native call as one operation, so this budget is
+/// what stops a script that loops over episodes.
+pub const MAX_SCRIPT_EPISODES: u64 = 20_000;
+
+/// The episodes a script has left to run (see [`MAX_SCRIPT_EPISODES`]).
+#[derive(Debug, Clone)]
+pub struct EpisodeBudget(Rc<RefCell<u64>>);
+
+impl Default for EpisodeBudget {
+    fn default() -> Self {
+        EpisodeBudget::new(MAX_SCRIPT_EPISODES)
+    }
+}
+
+impl EpisodeBudget {
+    /// A budget of `episodes`.
+    pub fn new(episodes: u64) -> Self {
+        EpisodeBudget(Rc::new(RefCell::new(episodes)))
+    }
+
+    /// Takes `n` episodes from the budget, or fails without taking any.
+    fn spend(&self, n: u64) -> Res<()> {
+        let mut left = self.0.borrow_mut();
+        if n > *left {
+            return Err(
+                format!("the script would run more episodes than its budget ({} left, {n} asked)", *left).into()
+            );
+        }
+        *left -= n;
+        Ok(())
+    }
+}
+
+fn batch(source: &MapSource, episodes: i64, seed: i64, rules: &Array, budget: &EpisodeBudget) -> Res<Map> {
     let n = usize::try_from(episodes)
         .ok()
         .filter(|n| *n > 0)
         .ok_or_else(|| -> Box<EvalAltResult> { format!("episodes must be at least 1, found {episodes}").into() })?;
+    budget.spend(n as u64)?;
     let c = controller(rules)?;
-    let jobs = jobs(source, Some(n), seed_of(seed)?)
-        .map_err(|_| -> Box<EvalAltResult> { "cannot prepare the episodes".into() })?;
-    let records = experiment::run_batch(&jobs, &c, &StepParameters::default(), &|| {});
+    let seed = seed_of(seed)?;
+    let make = |i: usize| job(source, i, seed);
+    let records = experiment::run_batch_of(n, &make, &c, &StepParameters::default(), &|| {});
     Ok(summary_map(&experiment::summarize(&records)))
 }
 
 /// Registers the experiment functions on a script engine; relative paths resolve from `base`.
-pub fn register(engine: &mut rhai::Engine, base: &Path) {
+/// The episodes they run are taken from `budget`.
+pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) {
     engine.register_type_with_name::<ScenarioHandle>("Scenario");
     let dir = base.to_path_buf();
     engine.register_fn("load_map", move |path: &str| -> Res<ScenarioHandle> {
@@ -135,7 +172,7 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
         match load_map(&full.to_string_lossy(), None) {
             Ok(MapSource::Scenario(s)) => Ok(ScenarioHandle(s)),
             Ok(MapSource::Random(_)) => Err(format!("'{path}' is a generator; use random_world").into()),
-            Err(e) => Err(format!("{e:?}").into()),
+            Err(e) => Err(failure_text(e)),
         }
     });
     engine.register_fn("random_world", |name: &str, seed: i64| -> Res<ScenarioHandle> {
@@ -153,28 +190,31 @@ pub fn register(engine: &mut rhai::Engine, base: &Path) {
     let dir = base.to_path_buf();
     engine.register_fn("load_rules", move |path: &str| -> Res<Array> {
         let full = dir.join(path);
-        let text = std::fs::read_to_string(&full)
-            .map_err(|e| -> Box<EvalAltResult> { format!("cannot read {}: {e}", full.display()).into() })?;
+        let text = super::files::read_text(&full).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         let list = fuzzy_api::load_engines(&text, &full.to_string_lossy(), Limits::default(), &ScriptLog::new())
             .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });
-    engine.register_fn("run_episode", |s: &mut ScenarioHandle, rules: Array, task: i64, seed: i64| -> Res<Map> {
+    let b = budget.clone();
+    engine.register_fn("run_episode", move |s: &mut ScenarioHandle, rules: Array, task: i64, seed: i64| -> Res<Map> {
         let t = usize::try_from(task).ok().filter(|t| *t < s.0.tasks.len()).ok_or_else(|| -> Box<EvalAltResult> {
             format!("task {task} out of range (the map has {})", s.0.tasks.len()).into()
         })?;
+        b.spend(1)?;
         let c = controller(&rules)?;
         let mut params = StepParameters::default();
         params.limits.radius = s.0.agent_radius;
         let e = experiment::run_episode(&s.0, &s.0.world(), t, &c, &params, 0, seed_of(seed)?);
         Ok(record_map(&e.record))
     });
-    engine.register_fn("run_batch", |name: &str, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
+    let b = budget.clone();
+    engine.register_fn("run_batch", move |name: &str, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
         let k: WorldKind = name.parse().map_err(|e| -> Box<EvalAltResult> { format!("{e}").into() })?;
-        batch(&MapSource::Random(k), episodes, seed, &rules)
+        batch(&MapSource::Random(k), episodes, seed, &rules, &b)
     });
-    engine.register_fn("run_batch", |s: ScenarioHandle, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
-        batch(&MapSource::Scenario(s.0), episodes, seed, &rules)
+    let b = budget.clone();
+    engine.register_fn("run_batch", move |s: ScenarioHandle, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
+        batch(&MapSource::Scenario(s.0), episodes, seed, &rules, &b)
     });
 }
 
@@ -247,10 +287,7 @@ fn take_snapshot(
 ) -> Res<Map> {
     let o = snapshot_options(options)?;
     let c = controller(rules)?;
-    let job = jobs(source, Some(o.episode + 1), seed_of(seed)?)
-        .ok()
-        .and_then(|mut j| j.pop())
-        .ok_or_else(|| -> Box<EvalAltResult> { "cannot prepare the episode".into() })?;
+    let job = job(source, o.episode, seed_of(seed)?);
     let animation = load_animation(&BodyArgs { body: o.body, ..BodyArgs::default() }).map_err(failure_text)?;
     let episode = snapshot::Episode::new(job.scenario, job.task, job.seed, c, animation);
     let report = snapshot::check_episode(&episode, &o.settings, dir)
@@ -312,21 +349,28 @@ pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFail
 /// `strider experiment`.
 pub fn run(args: ExperimentArgs) -> Outcome {
     let file = args.script.display().to_string();
-    let source = std::fs::read_to_string(&args.script).with_context(|| format!("cannot read {file}"))?;
+    let source = super::files::read_text(&args.script)?;
     let log = ScriptLog::new();
     // Experiments may run many episodes; each native call counts as few operations.
     let mut engine = hardened_engine(Limits::default(), &log);
-    engine.on_print(|s| println!("{s}"));
-    register(&mut engine, Path::new("."));
+    // `print` is the script's data (stdout); a closed pipe stops the script quietly.
+    engine.on_print(|s| {
+        if super::files::outln!("{s}").is_err() {
+            std::process::exit(0);
+        }
+    });
+    register(&mut engine, Path::new("."), &EpisodeBudget::default());
     let failures = register_snapshot(&mut engine, Path::new("."));
     let ast = engine.compile(&source).map_err(|e| {
         let pos = e.position();
         anyhow!("{file}:{}:{}: {}", pos.line().unwrap_or(0), pos.position().unwrap_or(0), e.0)
     })?;
-    engine.run_ast(&ast).map_err(|e| script_error(&file, &e))?;
+    let result = engine.run_ast(&ast).map_err(|e| script_error(&file, &e));
+    // The log is kept whether the script succeeded or not.
     for line in log.lines() {
         eprintln!("{file}: {line}");
     }
+    result?;
     let failed = failures.reports();
     if !failed.is_empty() {
         return Err(Failure::Task(anyhow!(
@@ -336,4 +380,25 @@ pub fn run(args: ExperimentArgs) -> Outcome {
         )));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_script_looping_over_episodes_is_stopped_by_its_budget() {
+        let log = ScriptLog::new();
+        let mut engine = hardened_engine(Limits::default(), &log);
+        let base = Path::new(env!("CARGO_MANIFEST_DIR"));
+        register(&mut engine, base, &EpisodeBudget::new(3));
+        let script = "let m = load_map(\"maps/open_field.rhai\");\nlet r = default_rules();\nlet n = 0;\n\
+                      loop { run_episode(m, r, 0, n); n += 1; }";
+        let err = engine.run(script).unwrap_err();
+        let err = script_error("loop.rhai", &err);
+        assert_eq!(err.line, 4, "{err}");
+        assert!(err.message.contains("budget (0 left, 1 asked)"), "{err}");
+        let err = engine.run("run_batch(\"semi\", 1000000000, 1, default_rules())").unwrap_err();
+        assert!(script_error("b.rhai", &err).message.contains("budget"), "{err}");
+    }
 }

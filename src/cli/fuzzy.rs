@@ -9,7 +9,8 @@ use std::time::Instant;
 use anyhow::{Context, anyhow, bail};
 use clap::{Subcommand, ValueEnum};
 
-use super::{Failure, Outcome, parse_size, write_atomic};
+use super::files::{self, write_atomic};
+use super::{Failure, Outcome, parse_size};
 use crate::diagnostic::SourceError;
 use crate::fuzzy::reference::Reference;
 use crate::fuzzy::{Engine, Inference, Network, fll};
@@ -110,18 +111,27 @@ pub fn run(command: FuzzyCommand) -> Outcome {
             if !(seconds > 0.0 && seconds <= 3600.0) {
                 return Err(anyhow!("--seconds must be in (0, 3600], found {seconds}").into());
             }
+            if check > MAX_CHECK {
+                return Err(anyhow!("--check must be at most {MAX_CHECK}, found {check}").into());
+            }
             let engines = load_engines(&engine, only.as_deref())?;
             let report = bench(&engines, seconds, seed, check)?;
-            print!("{report}");
+            files::write_stdout(format_args!("{report}"))?;
             Ok(())
         }
     }
 }
 
+/// Most inputs `fuzzy bench --check` compares with the naive reference evaluation.
+pub const MAX_CHECK: usize = 1_000_000;
+
+/// Most variables `fuzzy plot` draws (one picture each).
+pub const MAX_PLOTTED_VARIABLES: usize = 256;
+
 /// Reads engines from a `.fll` file or a `.rhai` script; `only` keeps one by name.
 pub fn load_engines(path: &Path, only: Option<&str>) -> Result<Vec<Engine>, Failure> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {file}"))?;
+    let text = files::read_text(path)?;
     let engines = match path.extension().and_then(|e| e.to_str()) {
         Some("fll") => vec![fll::import(&text, &file)?],
         Some("rhai") => load_script(&text, &file)?,
@@ -250,7 +260,7 @@ fn eval(path: &Path, inputs: Option<&Path>, only: Option<&str>) -> Outcome {
     let rows = match inputs {
         Some(csv) => {
             let file = csv.display().to_string();
-            let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {file}"))?;
+            let text = files::read_text(csv)?;
             let (rows, missing) = read_inputs_csv(&text, &file, &names)?;
             for name in missing {
                 eprintln!("warning: {file} has no column for input '{name}'; it is NaN in every row");
@@ -298,6 +308,15 @@ fn curves(terms: &[crate::fuzzy::NamedTerm], lo: f64, hi: f64) -> Vec<TermCurve>
 
 fn plot_engines(path: &Path, out: &Path, (w, h): (u32, u32), only: Option<&str>) -> Outcome {
     let engines = load_engines(path, only)?;
+    let variables: usize = engines.iter().map(|e| e.inputs.len() + e.outputs.len()).sum();
+    if variables > MAX_PLOTTED_VARIABLES {
+        return Err(anyhow!(
+            "{}: {variables} variables to plot, one picture each; at most {MAX_PLOTTED_VARIABLES} are drawn \
+             (choose an engine with --engine NAME)",
+            path.display()
+        )
+        .into());
+    }
     let mut net = Network::new(&engines).map_err(|e| anyhow!("{}: {}", path.display(), e.message))?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let mut written = Vec::new();

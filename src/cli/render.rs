@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{Context, anyhow};
 use clap::Args;
 
-use super::run::{MapArgs, jobs, load_controller, load_map};
+use super::run::{MapArgs, job, load_controller, load_map};
 use super::{Outcome, parse_size, write_atomic};
 use crate::render::png::{PngPainter, encode, render_png};
 use crate::render::poses::draw_strip;
@@ -46,10 +46,15 @@ const POSES: usize = 16;
 
 /// `strider render`.
 pub fn render(args: RenderArgs) -> Outcome {
+    // Flag combinations first, before any work.
+    if args.poses && args.body.body == super::anim::BodyKind::Disc {
+        return Err(
+            anyhow!("--poses draws the animated character's skeleton; it cannot be used with --body disc").into()
+        );
+    }
     let source = load_map(&args.map.map, args.map.scen.as_deref())?;
     let controller = load_controller(args.map.rules.as_deref())?;
-    let job =
-        jobs(&source, Some(args.episode + 1), args.map.seed)?.pop().ok_or_else(|| anyhow!("no episode to render"))?;
+    let job = job(&source, args.episode, args.map.seed);
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut params =
         StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };

@@ -5,9 +5,10 @@ use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use anyhow::{Context, anyhow};
+use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 
+use super::files;
 use super::{Failure, Outcome};
 use crate::experiment::{self, EpisodeRecord, Job};
 use crate::maps::kind::{self, WorldKind};
@@ -74,8 +75,14 @@ pub enum DataFormat {
 }
 
 fn read(path: &Path) -> Result<String, Failure> {
-    std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display())).map_err(Failure::Input)
+    Ok(files::read_text(path)?)
 }
+
+/// Most episodes one run may ask for (the records of a run are kept for its summary).
+pub const MAX_EPISODES: usize = 1_000_000;
+
+/// Most worker threads a run may ask for.
+pub const MAX_THREADS: usize = 256;
 
 /// Loads a map argument.
 pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
@@ -101,7 +108,14 @@ pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
                 None => PathBuf::from(format!("{map}.scen")),
             };
             if !scen_path.exists() {
-                return Err(anyhow!("{file}: a MovingAI map needs its scenario file: give --scen FILE").into());
+                return Err(match scen {
+                    Some(p) => anyhow!("{}: the scenario file given with --scen does not exist", p.display()),
+                    None => anyhow!(
+                        "{file}: a MovingAI map needs its scenario file ({} does not exist): give --scen FILE",
+                        scen_path.display()
+                    ),
+                }
+                .into());
             }
             let scen_file = scen_path.display().to_string();
             movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)?
@@ -129,36 +143,50 @@ pub fn load_controller(rules: Option<&Path>) -> Result<LayeredController, Failur
 
 pub use crate::experiment::world_seed;
 
-/// The jobs of a run: one per episode.
-pub fn jobs(source: &MapSource, episodes: Option<usize>, seed: u64) -> Result<Vec<Job>, Failure> {
-    Ok(match source {
-        MapSource::Scenario(s) => {
-            let n = episodes.unwrap_or(s.tasks.len());
-            (0..n).map(|i| Job { scenario: s.clone(), task: i % s.tasks.len(), seed: world_seed(seed, i) }).collect()
-        }
-        MapSource::Random(k) => {
-            let n = episodes.unwrap_or(1);
-            (0..n)
-                .map(|i| {
-                    let ws = world_seed(seed, i);
-                    Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws }
-                })
-                .collect()
-        }
-    })
+/// How many episodes a run of `source` has: `episodes`, or one per task (one for random
+/// worlds).
+pub fn episode_count(source: &MapSource, episodes: Option<usize>) -> usize {
+    match source {
+        MapSource::Scenario(s) => episodes.unwrap_or(s.tasks.len()),
+        MapSource::Random(_) => episodes.unwrap_or(1),
+    }
+}
+
+/// Episode `i` of a run of `source` seeded with `seed`; a random world is generated here, so
+/// a run makes each world when its episode starts, not all of them before the first.
+pub fn job(source: &MapSource, i: usize, seed: u64) -> Job {
+    let ws = world_seed(seed, i);
+    match source {
+        MapSource::Scenario(s) => Job { scenario: s.clone(), task: i % s.tasks.len(), seed: ws },
+        MapSource::Random(k) => Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws },
+    }
+}
+
+/// Checks an episode count against [`MAX_EPISODES`].
+pub fn check_episodes(n: usize) -> Result<(), Failure> {
+    if !(1..=MAX_EPISODES).contains(&n) {
+        return Err(anyhow!("--episodes must be in 1..={MAX_EPISODES}, found {n}").into());
+    }
+    Ok(())
 }
 
 /// `strider run`.
 pub fn run(args: RunArgs) -> Outcome {
-    if args.episodes == Some(0) {
-        return Err(anyhow!("--episodes must be at least 1").into());
+    if let Some(n) = args.episodes {
+        check_episodes(n)?;
+    }
+    if let Some(t) = args.threads
+        && !(1..=MAX_THREADS).contains(&t)
+    {
+        return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
     }
     let source = load_map(&args.map.map, args.map.scen.as_deref())?;
     let controller = load_controller(args.map.rules.as_deref())?;
-    let jobs = jobs(&source, args.episodes, args.map.seed)?;
+    let count = episode_count(&source, args.episodes);
+    check_episodes(count)?;
     let params = StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
-    let bar = if jobs.len() > 1 && io::stderr().is_terminal() {
-        let b = indicatif::ProgressBar::new(jobs.len() as u64);
+    let bar = if count > 1 && io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(count as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} episodes, {elapsed} elapsed, eta {eta}")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -176,7 +204,9 @@ pub fn run(args: RunArgs) -> Outcome {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .map_err(|e| anyhow!("cannot start worker threads: {e}"))?;
-    let records = pool.install(|| experiment::run_batch(&jobs, &controller, &params, &progress));
+    let seed = args.map.seed;
+    let make = |i: usize| job(&source, i, seed);
+    let records = pool.install(|| experiment::run_batch_of(count, &make, &controller, &params, &progress));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -185,7 +215,8 @@ pub fn run(args: RunArgs) -> Outcome {
     match args.format {
         DataFormat::Json => {
             let doc = serde_json::json!({ "summary": summary, "episodes": records });
-            serde_json::to_writer_pretty(&mut out, &doc).map_err(|e| anyhow!("cannot write JSON: {e}"))?;
+            // The io error keeps its kind, so a closed pipe is seen as one.
+            serde_json::to_writer_pretty(&mut out, &doc).map_err(io::Error::from)?;
             writeln!(out)?;
         }
         DataFormat::Csv => write_csv(&mut out, &records)?,
@@ -249,8 +280,7 @@ pub struct GenArgs {
 pub fn gen_world(args: GenArgs) -> Outcome {
     let k: WorldKind = args.kind.parse().map_err(|e| anyhow!("{e}"))?;
     let scenario = kind::generate(k, args.seed);
-    let mut out = io::stdout().lock();
-    out.write_all(text::write(&scenario).as_bytes())?;
+    files::write_stdout(format_args!("{}", text::write(&scenario)))?;
     Ok(())
 }
 

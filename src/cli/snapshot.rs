@@ -84,7 +84,7 @@ pub fn run(args: SnapshotArgs) -> Outcome {
         }
         Err(e) => return Err(Failure::Input(e.into())),
     };
-    println!("{report}");
+    super::files::outln!("{report}")?;
     if report.passed() {
         Ok(())
     } else {

@@ -111,10 +111,17 @@ pub struct Weighted<'a> {
 /// Weighted average (`sum_only = false`) or weighted sum of activated terms. `inputs` are the
 /// engine's input values, for linear terms.
 pub fn weighted(kind: WeightedKind, terms: &[Weighted<'_>], inputs: &[f64], sum_only: bool) -> f64 {
-    if terms.is_empty() {
-        return f64::NAN;
-    }
-    let (mut sum, mut weights) = (0.0, 0.0);
+    weighted_result(weighted_fold(kind, terms, inputs, (0.0, 0.0)), sum_only)
+}
+
+/// Adds `terms` to the running `(Σ degree · value, Σ degree)` of a weighted defuzzifier, in
+/// order (so a list folded in pieces gives the same sums as folded whole).
+pub fn weighted_fold(
+    kind: WeightedKind,
+    terms: &[Weighted<'_>],
+    inputs: &[f64],
+    (mut sum, mut weights): (f64, f64),
+) -> (f64, f64) {
     for w in terms {
         let tsukamoto = match kind {
             WeightedKind::Tsukamoto => true,
@@ -129,6 +136,12 @@ pub fn weighted(kind: WeightedKind, terms: &[Weighted<'_>], inputs: &[f64], sum_
         sum += w.degree * z;
         weights += w.degree;
     }
+    (sum, weights)
+}
+
+/// The weighted average (or, with `sum_only`, the weighted sum) from the sums of
+/// [`weighted_fold`]; NaN when no weight is positive (no term activated).
+pub fn weighted_result((sum, weights): (f64, f64), sum_only: bool) -> f64 {
     if !(weights > 0.0) {
         return f64::NAN;
     }

@@ -313,7 +313,9 @@ impl Activation {
         let number = |i: usize, default: f64| -> Result<f64, String> {
             match params.get(i) {
                 None => Ok(default),
-                Some(p) => super::fll::parse_number(p).ok_or_else(|| format!("expected a number, found '{p}'")),
+                Some(p) => super::fll::parse_number(p)
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| format!("expected a finite number, found '{p}'")),
             }
         };
         let max_params = |n: usize| -> Result<(), String> {
@@ -435,10 +437,52 @@ pub enum EngineKind {
 pub struct EngineError {
     /// Human-readable explanation naming the variable, term, block or rule.
     pub message: String,
+    /// The part of the engine at fault, when there is one (so that importers can point at
+    /// the line that defined it).
+    pub at: Option<Item>,
+}
+
+/// A part of an [`Engine`], by index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Item {
+    /// An input variable.
+    Input(usize),
+    /// An output variable.
+    Output(usize),
+    /// A term of an input (`output == false`) or output variable.
+    Term {
+        /// Whether the variable is an output.
+        output: bool,
+        /// Index of the variable.
+        variable: usize,
+        /// Index of the term within it.
+        term: usize,
+    },
+    /// A rule block.
+    Block(usize),
+    /// A rule of a rule block.
+    Rule {
+        /// Index of the block.
+        block: usize,
+        /// Index of the rule within it.
+        rule: usize,
+    },
+}
+
+impl EngineError {
+    /// An error about no part in particular.
+    pub fn new(message: impl Into<String>) -> Self {
+        EngineError { message: message.into(), at: None }
+    }
+
+    /// The same error, blamed on `item` unless it already names a part.
+    fn at(self, item: Item) -> Self {
+        EngineError { at: self.at.or(Some(item)), ..self }
+    }
 }
 
 fn err<T>(message: String) -> Result<T, EngineError> {
-    Err(EngineError { message })
+    Err(EngineError::new(message))
 }
 
 impl InputVariable {
@@ -531,14 +575,15 @@ fn check_range(what: &str, name: &str, min: f64, max: f64) -> Result<(), EngineE
     Ok(())
 }
 
-fn check_terms(what: &str, name: &str, terms: &[NamedTerm]) -> Result<(), EngineError> {
+fn check_terms(what: &str, name: &str, terms: &[NamedTerm], output: bool, variable: usize) -> Result<(), EngineError> {
     for (i, t) in terms.iter().enumerate() {
-        check_name("term", &t.name)?;
+        let item = Item::Term { output, variable, term: i };
+        check_name("term", &t.name).map_err(|e| e.at(item))?;
         if terms[..i].iter().any(|o| o.name == t.name) {
-            return err(format!("{what} '{name}' has two terms named '{}'", t.name));
+            return err(format!("{what} '{name}' has two terms named '{}'", t.name)).map_err(|e| e.at(item));
         }
-        if t.term.parameters().iter().any(|p| p.is_nan()) {
-            return err(format!("term '{}' of {what} '{name}' has a NaN parameter", t.name));
+        if let Err(m) = t.term.check() {
+            return err(format!("term '{}' of {what} '{name}': {m}", t.name)).map_err(|e| e.at(item));
         }
     }
     Ok(())
@@ -569,35 +614,74 @@ impl Engine {
 
     /// Checks everything [`crate::fuzzy::Inference`] relies on.
     pub fn validate(&self) -> Result<(), EngineError> {
+        self.validate_variables()?;
+        self.validate_blocks()
+    }
+
+    fn validate_variables(&self) -> Result<(), EngineError> {
         for (i, v) in self.inputs.iter().enumerate() {
-            check_name("input variable", &v.name)?;
-            if self.inputs[..i].iter().any(|o| o.name == v.name) {
-                return err(format!("two input variables are named '{}'", v.name));
-            }
-            check_range("input variable", &v.name, v.minimum, v.maximum)?;
-            check_terms("input variable", &v.name, &v.terms)?;
+            self.validate_input(i, v).map_err(|e| e.at(Item::Input(i)))?;
         }
         for (i, v) in self.outputs.iter().enumerate() {
-            check_name("output variable", &v.name)?;
-            if self.outputs[..i].iter().any(|o| o.name == v.name) || self.inputs.iter().any(|o| o.name == v.name) {
-                return err(format!("two variables are named '{}'", v.name));
+            self.validate_output(i, v).map_err(|e| e.at(Item::Output(i)))?;
+        }
+        let inputs = self.inputs.iter().map(|v| &v.terms);
+        let outputs = self.outputs.iter().map(|v| &v.terms);
+        let all = inputs.enumerate().map(|(i, t)| (false, i, t)).chain(outputs.enumerate().map(|(i, t)| (true, i, t)));
+        for (output, variable, terms) in all {
+            for (term, t) in terms.iter().enumerate() {
+                if let Term::Linear { coefficients } = &t.term
+                    && coefficients.len() != self.inputs.len() + 1
+                    && coefficients.len() != self.inputs.len()
+                {
+                    return err(format!(
+                        "Linear term '{}' needs {} coefficients (one per input, then an optional constant), found {}",
+                        t.name,
+                        self.inputs.len(),
+                        coefficients.len()
+                    ))
+                    .map_err(|e| e.at(Item::Term { output, variable, term }));
+                }
             }
-            check_range("output variable", &v.name, v.minimum, v.maximum)?;
-            check_terms("output variable", &v.name, &v.terms)?;
-            if let Some(d) = v.defuzzifier
-                && d.resolution().is_some()
-                && !(v.minimum.is_finite() && v.maximum.is_finite())
-            {
-                return err(format!(
-                    "output variable '{}' uses {} and needs a finite range, found [{}, {}]",
-                    v.name,
-                    d.name(),
-                    v.minimum,
-                    v.maximum
-                ));
-            }
-            if let Some(Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind }) = v.defuzzifier {
-                for t in &v.terms {
+        }
+        Ok(())
+    }
+
+    fn validate_input(&self, i: usize, v: &InputVariable) -> Result<(), EngineError> {
+        check_name("input variable", &v.name)?;
+        if self.inputs[..i].iter().any(|o| o.name == v.name) {
+            return err(format!("two input variables are named '{}'", v.name));
+        }
+        check_range("input variable", &v.name, v.minimum, v.maximum)?;
+        check_terms("input variable", &v.name, &v.terms, false, i)
+    }
+
+    fn validate_output(&self, i: usize, v: &OutputVariable) -> Result<(), EngineError> {
+        check_name("output variable", &v.name)?;
+        if self.outputs[..i].iter().any(|o| o.name == v.name) || self.inputs.iter().any(|o| o.name == v.name) {
+            return err(format!("two variables are named '{}'", v.name));
+        }
+        check_range("output variable", &v.name, v.minimum, v.maximum)?;
+        check_terms("output variable", &v.name, &v.terms, true, i)?;
+        if let Some(d) = v.defuzzifier
+            && d.resolution().is_some()
+            && !(v.minimum.is_finite() && v.maximum.is_finite())
+        {
+            return err(format!(
+                "output variable '{}' uses {} and needs a finite range, found [{}, {}]",
+                v.name,
+                d.name(),
+                v.minimum,
+                v.maximum
+            ));
+        }
+        for (ti, t) in v.terms.iter().enumerate() {
+            let weighted = match v.defuzzifier {
+                Some(Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind }) => Some(kind),
+                _ => None,
+            };
+            let problem = match weighted {
+                Some(kind) => {
                     let ok = match kind {
                         WeightedKind::TakagiSugeno => true,
                         WeightedKind::Tsukamoto => t.term.is_monotonic(),
@@ -605,70 +689,66 @@ impl Engine {
                             t.term.is_monotonic() || matches!(t.term, Term::Constant { .. } | Term::Linear { .. })
                         }
                     };
-                    if !ok {
-                        return err(format!(
+                    (!ok).then(|| {
+                        format!(
                             "term '{}' ({}) of output variable '{}' cannot be used by a weighted defuzzifier: \
                              use Constant or Linear terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave)",
                             t.name,
                             t.term.class_name(),
                             v.name
-                        ));
-                    }
+                        )
+                    })
                 }
-            } else {
-                for t in &v.terms {
-                    if let Term::Linear { .. } = t.term {
-                        return err(format!(
-                            "term '{}' of output variable '{}' is Linear, which only a weighted defuzzifier can use",
-                            t.name, v.name
-                        ));
-                    }
-                }
+                None => matches!(t.term, Term::Linear { .. }).then(|| {
+                    format!(
+                        "term '{}' of output variable '{}' is Linear, which only a weighted defuzzifier can use",
+                        t.name, v.name
+                    )
+                }),
+            };
+            if let Some(m) = problem {
+                return err(m).map_err(|e| e.at(Item::Term { output: true, variable: i, term: ti }));
             }
         }
-        for t in self.inputs.iter().flat_map(|v| &v.terms).chain(self.outputs.iter().flat_map(|v| &v.terms)) {
-            if let Term::Linear { coefficients } = &t.term
-                && coefficients.len() != self.inputs.len() + 1
-                && coefficients.len() != self.inputs.len()
-            {
-                return err(format!(
-                    "Linear term '{}' needs {} coefficients (one per input, then an optional constant), found {}",
-                    t.name,
-                    self.inputs.len(),
-                    coefficients.len()
-                ));
-            }
-        }
+        Ok(())
+    }
+
+    fn validate_blocks(&self) -> Result<(), EngineError> {
         for (bi, block) in self.rule_blocks.iter().enumerate() {
             if self.rule_blocks[..bi].iter().any(|b| b.name == block.name && !b.name.is_empty()) {
-                return err(format!("two rule blocks are named '{}'", block.name));
+                return err(format!("two rule blocks are named '{}'", block.name)).map_err(|e| e.at(Item::Block(bi)));
             }
             for (ri, rule) in block.rules.iter().enumerate() {
-                let where_ = || format!("rule {} of rule block '{}'", ri + 1, block.name);
-                if rule.uses_and() && block.conjunction.is_none() {
-                    return err(format!("{} uses 'and' but the block has no conjunction", where_()));
-                }
-                if rule.uses_or() && block.disjunction.is_none() {
-                    return err(format!("{} uses 'or' but the block has no disjunction", where_()));
-                }
-                if !(rule.weight.is_finite() && rule.weight >= 0.0) {
-                    return err(format!("{} has weight {}, expected a finite number ≥ 0", where_(), rule.weight));
-                }
-                if !self.rule_indices_valid(rule) {
-                    return err(format!("{} refers to a variable or term that does not exist", where_()));
-                }
-                for c in &rule.consequent {
-                    let out = &self.outputs[c.variable];
-                    let integral = out.defuzzifier.is_some_and(|d| d.resolution().is_some());
-                    if integral && block.implication.is_none() {
-                        return err(format!(
-                            "{} concludes on '{}', whose {} defuzzifier needs an implication operator in the block",
-                            where_(),
-                            out.name,
-                            out.defuzzifier.map(|d| d.name()).unwrap_or_default()
-                        ));
-                    }
-                }
+                self.validate_rule(block, ri, rule).map_err(|e| e.at(Item::Rule { block: bi, rule: ri }))?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_rule(&self, block: &RuleBlock, ri: usize, rule: &Rule) -> Result<(), EngineError> {
+        let where_ = || format!("rule {} of rule block '{}'", ri + 1, block.name);
+        if rule.uses_and() && block.conjunction.is_none() {
+            return err(format!("{} uses 'and' but the block has no conjunction", where_()));
+        }
+        if rule.uses_or() && block.disjunction.is_none() {
+            return err(format!("{} uses 'or' but the block has no disjunction", where_()));
+        }
+        if !(rule.weight.is_finite() && rule.weight >= 0.0) {
+            return err(format!("{} has weight {}, expected a finite number ≥ 0", where_(), rule.weight));
+        }
+        if !self.rule_indices_valid(rule) {
+            return err(format!("{} refers to a variable or term that does not exist", where_()));
+        }
+        for c in &rule.consequent {
+            let out = &self.outputs[c.variable];
+            let integral = out.defuzzifier.is_some_and(|d| d.resolution().is_some());
+            if integral && block.implication.is_none() {
+                return err(format!(
+                    "{} concludes on '{}', whose {} defuzzifier needs an implication operator in the block",
+                    where_(),
+                    out.name,
+                    out.defuzzifier.map(|d| d.name()).unwrap_or_default()
+                ));
             }
         }
         Ok(())

@@ -8,7 +8,8 @@
 //! by import gives back the same engine.
 
 use super::engine::{
-    Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, WeightedKind,
+    Activation, Defuzzifier, Engine, EngineError, InputVariable, Item, NamedTerm, OutputVariable, RuleBlock,
+    WeightedKind,
 };
 use super::norm::{SNorm, TNorm};
 use super::rule::Rule;
@@ -54,12 +55,49 @@ struct PendingRule {
     col: usize,
 }
 
+/// Where each part of the engine was defined: `(line, column)` of its key.
+#[derive(Default)]
+struct Places {
+    inputs: Vec<(usize, usize)>,
+    outputs: Vec<(usize, usize)>,
+    input_terms: Vec<Vec<(usize, usize)>>,
+    output_terms: Vec<Vec<(usize, usize)>>,
+    blocks: Vec<(usize, usize)>,
+    rules: Vec<Vec<(usize, usize)>>,
+}
+
+impl Places {
+    fn of(&self, item: Option<Item>) -> (usize, usize) {
+        let found = match item {
+            None => None,
+            Some(Item::Input(i)) => self.inputs.get(i),
+            Some(Item::Output(i)) => self.outputs.get(i),
+            Some(Item::Term { output: false, variable, term }) => {
+                self.input_terms.get(variable).and_then(|t| t.get(term))
+            }
+            Some(Item::Term { output: true, variable, term }) => {
+                self.output_terms.get(variable).and_then(|t| t.get(term))
+            }
+            Some(Item::Block(b)) => self.blocks.get(b),
+            Some(Item::Rule { block, rule }) => self.rules.get(block).and_then(|r| r.get(rule)),
+        };
+        found.copied().unwrap_or((0, 0))
+    }
+
+    fn error(&self, file: &str, e: EngineError) -> SourceError {
+        let (line, col) = self.of(e.at);
+        SourceError::new(file, line, col, e.message)
+    }
+}
+
 /// Reads an FLL engine from `text`; `file` names it in errors. The engine is validated.
 pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
     let mut engine = Engine::default();
     let mut section = Section::None;
     let mut rules: Vec<PendingRule> = Vec::new();
     let mut seen_engine = false;
+    let mut places = Places::default();
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (ln, raw) in text.lines().enumerate() {
         let line_no = ln + 1;
         let line = match raw.find('#') {
@@ -106,11 +144,15 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                 continue;
             }
             "InputVariable" => {
+                places.inputs.push((line_no, col_of(indent)));
+                places.input_terms.push(Vec::new());
                 engine.inputs.push(InputVariable::new(&name_value()?, f64::NEG_INFINITY, f64::INFINITY));
                 section = Section::Input(engine.inputs.len() - 1);
                 continue;
             }
             "OutputVariable" => {
+                places.outputs.push((line_no, col_of(indent)));
+                places.output_terms.push(Vec::new());
                 let mut v = OutputVariable::new(&name_value()?, f64::NEG_INFINITY, f64::INFINITY);
                 v.aggregation = None;
                 v.defuzzifier = None;
@@ -119,6 +161,8 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                 continue;
             }
             "RuleBlock" => {
+                places.blocks.push((line_no, col_of(indent)));
+                places.rules.push(Vec::new());
                 let mut b = RuleBlock::mamdani(value);
                 b.conjunction = None;
                 b.disjunction = None;
@@ -144,7 +188,10 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                     "enabled" => v.enabled = boolean()?,
                     "range" => (v.minimum, v.maximum) = range(&words).map_err(value_err)?,
                     "lock-range" => v.lock_range = boolean()?,
-                    "term" => v.terms.push(term(&words).map_err(value_err)?),
+                    "term" => {
+                        v.terms.push(term(&words).map_err(value_err)?);
+                        places.input_terms[i].push((line_no, col_of(indent)));
+                    }
                     _ => return Err(err(indent, format!("unknown key '{key}' in InputVariable section"))),
                 }
             }
@@ -169,7 +216,10 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                             .ok_or_else(|| value_err(format!("expected a number, found '{value}'")))?
                     }
                     "lock-previous" | "lock-valid" => v.lock_previous = boolean()?,
-                    "term" => v.terms.push(term(&words).map_err(value_err)?),
+                    "term" => {
+                        v.terms.push(term(&words).map_err(value_err)?);
+                        places.output_terms[i].push((line_no, col_of(indent)));
+                    }
                     _ => return Err(err(indent, format!("unknown key '{key}' in OutputVariable section"))),
                 }
             }
@@ -207,13 +257,17 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
         return Err(SourceError::new(file, 1, 1, "no 'Engine:' section found"));
     }
     // Variables are validated before rules are parsed, so that rule errors name real problems.
-    engine.validate().map_err(|e| SourceError::new(file, 0, 0, e.message))?;
+    // (Rule-block checks wait for the rules.)
+    let mut variables_only = engine.clone();
+    variables_only.rule_blocks.clear();
+    variables_only.validate().map_err(|e| places.error(file, e))?;
     for r in rules {
         let rule = Rule::parse(&r.text, &engine.inputs, &engine.outputs)
             .map_err(|e| SourceError::new(file, r.line, r.col + e.col - 1, e.message))?;
         engine.rule_blocks[r.block].rules.push(rule);
+        places.rules[r.block].push((r.line, r.col));
     }
-    engine.validate().map_err(|e| SourceError::new(file, 0, 0, e.message))?;
+    engine.validate().map_err(|e| places.error(file, e))?;
     Ok(engine)
 }
 
@@ -242,6 +296,7 @@ fn term(words: &[&str]) -> Result<NamedTerm, String> {
                 .map(|p| parse_number(p).ok_or_else(|| format!("term '{name}': parameter '{p}' is not a number")))
                 .collect::<Result<Vec<f64>, String>>()?;
             let term = Term::from_parameters(class, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            term.check().map_err(|e| format!("term '{name}': {e}"))?;
             Ok(NamedTerm { name: name.to_string(), term })
         }
         _ => Err("expected 'term: NAME CLASS PARAMETERS…'".into()),
@@ -422,6 +477,55 @@ RuleBlock: rules
         assert!(import("", "t.fll").is_err());
         let dup = SMALL.replace("term: good Gaussian", "term: poor Gaussian");
         assert!(import(&dup, "t.fll").unwrap_err().message.contains("two terms"));
+    }
+
+    /// The 1-based line of the first line of `text` that contains `needle`.
+    fn line_of(text: &str, needle: &str) -> usize {
+        text.lines().position(|l| l.contains(needle)).unwrap() + 1
+    }
+
+    #[test]
+    fn validation_errors_name_the_line_that_defined_the_part() {
+        let dup = SMALL.replace("OutputVariable: tip", "InputVariable: service\nOutputVariable: tip");
+        let err = import(&dup, "t.fll").unwrap_err();
+        assert_eq!((err.line, err.col), (line_of(&dup, "OutputVariable") - 1, 1), "{err}");
+        let no_implication = SMALL.replace("  activation: Minimum\n", "");
+        let err = import(&no_implication, "t.fll").unwrap_err();
+        assert_eq!(err.line, line_of(&no_implication, "if service is poor"), "{err}");
+        assert!(err.message.contains("implication"), "{err}");
+        let no_range = SMALL.replace("  range: 0.000 30.000\n", "");
+        let err = import(&no_range, "t.fll").unwrap_err();
+        assert_eq!((err.line, err.col), (line_of(&no_range, "OutputVariable"), 1), "{err}");
+        assert!(err.message.contains("finite range"), "{err}");
+        let linear = SMALL
+            .replace("defuzzifier: Centroid 200", "defuzzifier: WeightedAverage TakagiSugeno")
+            .replace("term: average Triangle 10.000 15.000 20.000", "term: average Linear 1 2 3 4");
+        let err = import(&linear, "t.fll").unwrap_err();
+        assert_eq!((err.line, err.col), (line_of(&linear, "Linear 1 2 3 4"), 3), "{err}");
+        assert!(err.message.contains("coefficients"), "{err}");
+        let dup_block = format!("{SMALL}RuleBlock: rules\n");
+        let err = import(&dup_block, "t.fll").unwrap_err();
+        assert_eq!(err.line, dup_block.lines().count(), "{err}");
+    }
+
+    #[test]
+    fn nonsense_terms_and_thresholds_are_located_errors() {
+        for (from, to) in [
+            ("Triangle 10.000 15.000 20.000", "Triangle -inf 15 inf"),
+            ("Gaussian 5.000 1.500", "Gaussian 5 inf"),
+            ("Triangle 10.000 15.000 20.000", "Triangle 10 15 20 inf"),
+            ("Triangle 10.000 15.000 20.000", "Triangle 10 15 20 -1"),
+            ("Triangle 10.000 15.000 20.000", "Constant inf"),
+            ("Triangle 10.000 15.000 20.000", "Discrete 10 0 15 1 20"),
+            ("activation: Minimum", "activation: Threshold >= nan"),
+        ] {
+            let bad = SMALL.replace(from, to);
+            let err = import(&bad, "t.fll").unwrap_err();
+            assert_eq!(err.line, line_of(&bad, to), "{to}: {err}");
+            assert!(err.col > 1, "{to}: {err}");
+        }
+        let bom = format!("\u{feff}{SMALL}");
+        assert!(import(&bom, "t.fll").is_ok());
     }
 
     #[test]

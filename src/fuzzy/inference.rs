@@ -146,11 +146,13 @@ pub(crate) fn select_rules(activation: Activation, degrees: &mut [f64], fired: &
             fired.fill(false);
             order.clear();
             order.extend((0..degrees.len()).filter(|&i| positive(degrees[i])));
-            // Stable sort keeps rule order among equal degrees.
+            // Rule order is kept among equal degrees.
+            // (An unstable sort broken by rule index: the same order, without the buffer a
+            // stable sort allocates.)
             if matches!(activation, Activation::Highest { .. }) {
-                order.sort_by(|&a, &b| degrees[b].total_cmp(&degrees[a]));
+                order.sort_unstable_by(|&a, &b| degrees[b].total_cmp(&degrees[a]).then(a.cmp(&b)));
             } else {
-                order.sort_by(|&a, &b| degrees[a].total_cmp(&degrees[b]));
+                order.sort_unstable_by(|&a, &b| degrees[a].total_cmp(&degrees[b]).then(a.cmp(&b)));
             }
             for &i in order.iter().take(rules) {
                 fired[i] = true;
@@ -274,7 +276,16 @@ impl Inference {
                 rules: start..rules.len(),
             });
         }
-        let outs = engine.outputs.iter().map(compile_output).collect();
+        let mut outs: Vec<CompiledOutput> = engine.outputs.iter().map(compile_output).collect();
+        // Room for every activation one step can record, so `process` never allocates.
+        let mut per_output = vec![0usize; outs.len()];
+        for c in &conclusions {
+            per_output[c.output] += 1;
+        }
+        for (out, n) in outs.iter_mut().zip(per_output) {
+            out.raw.reserve(n);
+            out.activated.reserve(n);
+        }
         let n_rules = rules.len();
         Ok(Inference {
             engine: engine.clone(),
@@ -489,21 +500,16 @@ impl Inference {
                     None => None,
                     Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
                         let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
-                        let n = out.activated.len();
+                        // Sixteen activations at a time from the stack, summed in order.
                         let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
-                        if n <= list.len() {
-                            for (slot, a) in list.iter_mut().zip(&out.activated) {
+                        let mut acc = (0.0, 0.0);
+                        for chunk in out.activated.chunks(list.len()) {
+                            for (slot, a) in list.iter_mut().zip(chunk) {
                                 *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
                             }
-                            Some(defuzz::weighted(kind, &list[..n], inputs, sum_only))
-                        } else {
-                            let list: Vec<Weighted> = out
-                                .activated
-                                .iter()
-                                .map(|a| Weighted { term: &var.terms[a.0].term, degree: a.2 })
-                                .collect();
-                            Some(defuzz::weighted(kind, &list, inputs, sum_only))
+                            acc = defuzz::weighted_fold(kind, &list[..chunk.len()], inputs, acc);
                         }
+                        Some(defuzz::weighted_result(acc, sum_only))
                     }
                     Some(d) => {
                         if var.aggregation.is_none() && out.activated.len() > 1 {

@@ -49,7 +49,7 @@ impl Network {
             bindings.push(bind);
             for (o, var) in engine.outputs.iter().enumerate() {
                 if output_names.iter().any(|(n, _, _)| *n == var.name) {
-                    return Err(EngineError { message: format!("two engines of the network output '{}'", var.name) });
+                    return Err(EngineError::new(format!("two engines of the network output '{}'", var.name)));
                 }
                 output_names.push((var.name.clone(), s, o));
             }

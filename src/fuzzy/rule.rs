@@ -10,10 +10,18 @@
 //! ```
 //! `and` binds tighter than `or`; both associate to the left. Hedges apply right to left
 //! (`very not near` = very(not(near))). Invariant: a parsed [`Rule`] only holds indices that
-//! exist in the variables it was parsed against.
+//! exist in the variables it was parsed against, nests parentheses at most [`MAX_NESTING`]
+//! deep and holds at most [`MAX_PROPOSITIONS`] propositions, so every walk over it (parsing,
+//! compiling, printing, dropping) has bounded depth whatever the input text.
 
 use super::engine::{InputVariable, OutputVariable};
 use super::norm::Hedge;
+
+/// Deepest nesting of parentheses in a rule's antecedent.
+pub const MAX_NESTING: usize = 64;
+
+/// Most propositions (`variable is term`) in one rule's antecedent.
+pub const MAX_PROPOSITIONS: usize = 1024;
 
 /// A condition over input variables (and output variables, whose degree is that of a term in
 /// the output's fuzzy set as built by the rules evaluated before).
@@ -118,6 +126,8 @@ struct Parser<'a, 'v> {
     tokens: Vec<Token<'a>>,
     pos: usize,
     end_col: usize,
+    depth: usize,
+    propositions: usize,
     inputs: &'v [InputVariable],
     outputs: &'v [OutputVariable],
 }
@@ -168,7 +178,15 @@ impl<'a> Parser<'a, '_> {
     fn factor(&mut self) -> Result<Antecedent, RuleError> {
         let t = self.next("a variable or '('")?;
         if t.text == "(" {
+            if self.depth == MAX_NESTING {
+                return Err(RuleError {
+                    col: t.col,
+                    message: format!("parentheses nested deeper than {MAX_NESTING} levels"),
+                });
+            }
+            self.depth += 1;
             let inner = self.antecedent()?;
+            self.depth -= 1;
             let close = self.next("')'")?;
             if close.text != ")" {
                 return Err(RuleError { col: close.col, message: format!("expected ')', found '{}'", close.text) });
@@ -185,6 +203,13 @@ impl<'a> Parser<'a, '_> {
             } else {
                 return Err(RuleError { col: t.col, message: format!("unknown variable '{}'", t.text) });
             };
+        self.propositions += 1;
+        if self.propositions > MAX_PROPOSITIONS {
+            return Err(RuleError {
+                col: t.col,
+                message: format!("more than {MAX_PROPOSITIONS} propositions in one rule"),
+            });
+        }
         self.keyword("is")?;
         let (hedges, term) = self.hedged_term(name, &terms, true)?;
         Ok(Antecedent::Proposition(Proposition { variable, hedges, term }))
@@ -249,7 +274,7 @@ impl Rule {
     pub fn parse(text: &str, inputs: &[InputVariable], outputs: &[OutputVariable]) -> Result<Rule, RuleError> {
         let tokens = tokenize(text);
         let end_col = text.chars().count() + 1;
-        let mut p = Parser { tokens, pos: 0, end_col, inputs, outputs };
+        let mut p = Parser { tokens, pos: 0, end_col, depth: 0, propositions: 0, inputs, outputs };
         p.keyword("if")?;
         let antecedent = p.antecedent()?;
         p.keyword("then")?;
@@ -455,5 +480,20 @@ mod tests {
         assert!(err.message.contains("')'"), "{err}");
         let err = Rule::parse("if distance is near then turn is left with x", &e.inputs, &e.outputs).unwrap_err();
         assert_eq!(err.col, 44);
+    }
+
+    #[test]
+    fn deep_nesting_and_long_rules_are_errors_not_stack_overflows() {
+        let e = two_by_two();
+        let n = 10_000;
+        let text = format!("if {}distance is near{} then turn is left", "(".repeat(n), ")".repeat(n));
+        let err = Rule::parse(&text, &e.inputs, &e.outputs).unwrap_err();
+        assert_eq!(err.col, 4 + MAX_NESTING, "{err}");
+        assert!(err.message.contains("nested deeper"), "{err}");
+        let ok = format!("if {}distance is near{} then turn is left", "(".repeat(8), ")".repeat(8));
+        assert!(Rule::parse(&ok, &e.inputs, &e.outputs).is_ok());
+        let long = format!("if distance is near{} then turn is left", " and distance is far".repeat(n));
+        let err = Rule::parse(&long, &e.inputs, &e.outputs).unwrap_err();
+        assert!(err.message.contains("propositions"), "{err}");
     }
 }

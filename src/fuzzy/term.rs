@@ -202,6 +202,12 @@ impl Term {
                 }
                 let (pairs, height) =
                     if p.len().is_multiple_of(2) { (p, 1.0) } else { (&p[..p.len() - 1], p[p.len() - 1]) };
+                if !(0.0..=1.0).contains(&height) {
+                    return Err(format!(
+                        "term {class} has an odd number of values: the last, {height}, would be its height, \
+                         which must be in [0, 1]; give x y pairs"
+                    ));
+                }
                 let points: Vec<(f64, f64)> = pairs.chunks_exact(2).map(|c| (c[0], c[1])).collect();
                 if points.windows(2).any(|w| w[1].0 < w[0].0) {
                     return Err(format!("term {class} needs its x values in ascending order"));
@@ -247,6 +253,83 @@ impl Term {
             v.push(height);
         }
         v
+    }
+
+    /// Checks that the parameters describe a real membership function: every parameter
+    /// finite (except one shoulder of a Triangle or Trapezoid: `a` = −∞ or the last = +∞, not
+    /// both), the height in `[0, 1]`, positive widths where the shape divides by them.
+    pub fn check(&self) -> Result<(), String> {
+        let params = self.parameters_with_height();
+        let height = match self {
+            Term::Constant { .. } | Term::Linear { .. } => 1.0,
+            _ => params[params.len() - 1],
+        };
+        if !(0.0..=1.0).contains(&height) {
+            return Err(format!("height must be in [0, 1], found {height}"));
+        }
+        let last = params.len().saturating_sub(2);
+        for (i, p) in params.iter().enumerate() {
+            let shoulder = match self {
+                Term::Triangle { .. } | Term::Trapezoid { .. } => {
+                    (i == 0 && *p == f64::NEG_INFINITY) || (i == last && *p == f64::INFINITY)
+                }
+                _ => false,
+            };
+            if !p.is_finite() && !shoulder {
+                return Err(format!("parameter {} is {p}; it must be a finite number", i + 1));
+            }
+        }
+        if let Term::Triangle { a, c, .. } | Term::Trapezoid { a, d: c, .. } = *self
+            && a.is_infinite()
+            && c.is_infinite()
+        {
+            return Err("both ends are infinite: the term would be constant".into());
+        }
+        let width = match *self {
+            Term::Gaussian { sd, .. } => Some(sd),
+            Term::GaussianProduct { sd_a, sd_b, .. } => Some(sd_a.min(sd_b)),
+            Term::Bell { width, .. } | Term::Spike { width, .. } | Term::Cosine { width, .. } => Some(width),
+            _ => None,
+        };
+        if let Some(w) = width
+            && w <= 0.0
+        {
+            return Err(format!("width {w} must be positive"));
+        }
+        Ok(())
+    }
+
+    /// Every parameter, the height last (1 for terms without one).
+    fn parameters_with_height(&self) -> Vec<f64> {
+        let mut v = self.parameters();
+        if v.len() == self.shape_parameter_count() {
+            v.push(1.0);
+        }
+        v
+    }
+
+    /// Parameters of a shape term without its height.
+    fn shape_parameter_count(&self) -> usize {
+        match self {
+            Term::Rectangle { .. }
+            | Term::Ramp { .. }
+            | Term::SShape { .. }
+            | Term::ZShape { .. }
+            | Term::Gaussian { .. }
+            | Term::Sigmoid { .. }
+            | Term::Spike { .. }
+            | Term::Cosine { .. }
+            | Term::Concave { .. } => 2,
+            Term::Triangle { .. } | Term::Bell { .. } => 3,
+            Term::Trapezoid { .. }
+            | Term::GaussianProduct { .. }
+            | Term::SigmoidDifference { .. }
+            | Term::SigmoidProduct { .. }
+            | Term::PiShape { .. } => 4,
+            Term::Constant { .. } => 1,
+            Term::Linear { coefficients } => coefficients.len(),
+            Term::Discrete { points, .. } => 2 * points.len(),
+        }
     }
 
     /// True when the term's value depends on the engine's input values ([`Term::Linear`]).
@@ -512,5 +595,26 @@ mod tests {
         assert!(Term::from_parameters("Triangle", &[0.0, f64::NAN, 1.0]).is_err());
         assert!(Term::from_parameters("Blob", &[0.0]).is_err());
         assert!(Term::from_parameters("Discrete", &[1.0, 0.0, 0.0, 1.0]).is_err());
+    }
+
+    #[test]
+    fn infinite_and_out_of_range_parameters_fail_the_check() {
+        let (inf, ninf) = (f64::INFINITY, f64::NEG_INFINITY);
+        let check = |class: &str, p: &[f64]| Term::from_parameters(class, p).and_then(|t| t.check());
+        assert!(check("Triangle", &[ninf, 15.0, inf]).is_err());
+        assert!(check("Triangle", &[ninf, 15.0, 20.0]).is_ok());
+        assert!(check("Trapezoid", &[0.0, 1.0, 2.0, inf]).is_ok());
+        assert!(check("Triangle", &[0.0, inf, 20.0]).is_err());
+        assert!(check("Gaussian", &[5.0, inf]).is_err());
+        assert!(check("Gaussian", &[5.0, 0.0]).is_err());
+        assert!(check("Triangle", &[0.0, 1.0, 2.0, inf]).is_err());
+        assert!(check("Triangle", &[0.0, 1.0, 2.0, -1.0]).is_err());
+        assert!(check("Triangle", &[0.0, 1.0, 2.0, 0.5]).is_ok());
+        assert!(check("Constant", &[inf]).is_err());
+        assert!(check("Constant", &[3.0]).is_ok());
+        assert!(check("Linear", &[1.0, inf]).is_err());
+        assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 5.0]).is_err());
+        assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 0.5]).is_ok());
+        assert!(check("Discrete", &[0.0, 0.0, 1.0, inf]).is_err());
     }
 }

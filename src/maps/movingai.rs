@@ -31,6 +31,11 @@ pub const MIN_TIME_LIMIT_S: f64 = 60.0;
 /// Time allowed per metre of the scenario's optimal length, seconds per metre.
 pub const TIME_PER_METRE_S: f64 = 20.0;
 
+/// Largest map accepted, cells (512 × 512, the largest maps of the MovingAI maze and room
+/// sets): every blocked run becomes an obstacle, and the reference optimum's visibility graph
+/// grows with their corners.
+pub const MAX_CELLS: usize = 512 * 512;
+
 /// A grid of passable and blocked cells, row 0 at the top.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Grid {
@@ -209,7 +214,14 @@ pub fn parse_map(text: &str, file: &str) -> Result<Grid, SourceError> {
         let which = if width.is_none() { "width" } else { "height" };
         return Err(err(map_line, 1, format!("missing `{which}` line before `map`")));
     };
-    if w.checked_mul(h).is_none_or(|cells| cells > text.len()) {
+    if w.checked_mul(h).is_none_or(|cells| cells > MAX_CELLS) {
+        return Err(err(
+            map_line,
+            1,
+            format!("a {w} × {h} map is larger than the {MAX_CELLS} cells strider reads (512 × 512)"),
+        ));
+    }
+    if w * h > text.len() {
         return Err(err(map_line, 1, format!("the file is too short for a {w} × {h} map")));
     }
     let mut blocked = Vec::with_capacity(w * h);
@@ -418,6 +430,19 @@ pub fn load(map_text: &str, map_file: &str, scen_text: &str, scen_file: &str) ->
         return Err(SourceError::new(scen_file, 0, 0, "no problem lines after `version 1`"));
     }
     check_scen(&grid, &lines, scen_file)?;
+    let map_name = Path::new(map_file).file_name().and_then(|s| s.to_str()).unwrap_or(map_file);
+    for s in &lines {
+        // `.scen` files name their map with or without a directory.
+        let named = s.map.rsplit(['/', '\\']).next().unwrap_or(&s.map);
+        if named != map_name {
+            return Err(SourceError::new(
+                scen_file,
+                s.line,
+                s.cols[1],
+                format!("this problem is for map `{}`, not `{map_name}`", s.map),
+            ));
+        }
+    }
     let name = Path::new(map_file).file_stem().and_then(|s| s.to_str()).unwrap_or(map_file);
     let mut scenario = scenario_from(&grid, &lines, name);
     let world = World::new(std::mem::take(&mut scenario.obstacles));

@@ -115,8 +115,8 @@ impl VariableHandle {
 
 fn new_variable(e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic, output: bool) -> Res<VariableHandle> {
     let (min, max) = (number(&min, "range minimum")?, number(&max, "range maximum")?);
-    if min.is_nan() || max.is_nan() || min >= max {
-        return fail(format!("variable '{name}': range [{min}, {max}] is empty, inverted or NaN"));
+    if !(min.is_finite() && max.is_finite()) || min >= max {
+        return fail(format!("variable '{name}': range [{min}, {max}] must be finite and not empty or inverted"));
     }
     let mut engine = e.0.borrow_mut();
     if engine.inputs.iter().any(|v| v.name == name) || engine.outputs.iter().any(|v| v.name == name) {
@@ -189,7 +189,9 @@ pub fn register(engine: &mut rhai::Engine) {
         "term",
         |v: &mut VariableHandle, name: &str, kind: &str, params: Array| -> Res<VariableHandle> {
             let values = numbers(&params, &format!("parameter of term '{name}'"))?;
-            let term = Term::from_parameters(kind, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            let term = Term::from_parameters(kind, &values)
+                .and_then(|t| t.check().map(|()| t))
+                .map_err(|e| format!("term '{name}': {e}"))?;
             let mut duplicate = false;
             v.edit(|_, _, _, terms| {
                 duplicate = terms.iter().any(|t| t.name == name);
@@ -207,7 +209,9 @@ pub fn register(engine: &mut rhai::Engine) {
         "set_term",
         |v: &mut VariableHandle, name: &str, kind: &str, params: Array| -> Res<VariableHandle> {
             let values = numbers(&params, &format!("parameter of term '{name}'"))?;
-            let term = Term::from_parameters(kind, &values).map_err(|e| format!("term '{name}': {e}"))?;
+            let term = Term::from_parameters(kind, &values)
+                .and_then(|t| t.check().map(|()| t))
+                .map_err(|e| format!("term '{name}': {e}"))?;
             v.edit(|_, _, _, terms| match terms.iter_mut().find(|t| t.name == name) {
                 Some(t) => t.term = term,
                 None => terms.push(NamedTerm { name: name.to_string(), term }),
@@ -364,9 +368,9 @@ pub fn engines_from(value: rhai::Dynamic) -> Result<Vec<Engine>, String> {
                 Some(e) => out.push(e.0.borrow().clone()),
                 None => {
                     return Err(format!(
-                        "item {} of the returned array is a {}, not a fuzzy engine",
+                        "item {} of the returned array is {}, not a fuzzy engine",
                         i + 1,
-                        item.type_name()
+                        super::value_kind(&item)
                     ));
                 }
             }
@@ -375,7 +379,11 @@ pub fn engines_from(value: rhai::Dynamic) -> Result<Vec<Engine>, String> {
             return Ok(out);
         }
     }
-    Err(format!("the script must end with a fuzzy engine or an array of them, found {}", value.type_name()))
+    let hint = if value.is::<super::map_api::MapHandle>() { " (is this a map given as rules?)" } else { "" };
+    Err(format!(
+        "the script must end with a fuzzy engine or an array of them, found {}{hint}",
+        super::value_kind(&value)
+    ))
 }
 
 /// Runs a script that builds fuzzy engines and returns them, validated.
@@ -397,6 +405,30 @@ pub fn load_engines(
 mod tests {
     use super::*;
     use crate::script::{Limits, ScriptLog};
+
+    #[test]
+    fn infinite_ranges_and_terms_are_located_errors() {
+        let load = |body: &str| {
+            let src = format!("let e = fuzzy_engine(\"x\");\n{body}\ne");
+            load_engines(&src, "inf.rhai", Limits::default(), &ScriptLog::new())
+        };
+        let err = load("let d = e.input(\"d\", 0, \"inf\");").unwrap_err();
+        assert_eq!(err.line, 2, "{err}");
+        assert!(err.message.contains("finite"), "{err}");
+        let err = load("let d = e.input(\"d\", 0, 1);\nd.set_term(\"a\", \"gaussian\", [5, \"inf\"]);").unwrap_err();
+        assert_eq!(err.line, 3, "{err}");
+        let err = load("let d = e.input(\"d\", 0, 1);\nd.term(\"a\", \"triangle\", [0, 1, 2, 3]);").unwrap_err();
+        assert!(err.message.contains("height"), "{err}");
+        let deep = format!(
+            "let d = e.input(\"d\", 0, 1);\nd.term(\"a\", \"triangle\", [0, 0, 1]);\n\
+             let o = e.output(\"o\", 0, 1);\no.term(\"b\", \"triangle\", [0, 0, 1]);\n\
+             let b = e.rule_block(\"r\");\nb.rule(\"if {}d is a{} then o is b\");",
+            "(".repeat(10_000),
+            ")".repeat(10_000)
+        );
+        let err = load(&deep).unwrap_err();
+        assert!(err.message.contains("nested deeper"), "{err}");
+    }
 
     const SCRIPT: &str = r#"
 let e = fuzzy_engine("demo");

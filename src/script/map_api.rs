@@ -165,7 +165,7 @@ pub fn load_scenario(
 ) -> Result<Scenario, SourceError> {
     let value = super::run(source, file, limits, log)?;
     let handle = value.clone().try_cast::<MapHandle>().ok_or_else(|| {
-        SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", value.type_name()))
+        SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", super::value_kind(&value)))
     })?;
     let mut st = handle.0.borrow_mut();
     if st.pending_start.is_some() {

@@ -60,7 +60,7 @@ pub struct Loaded<T> {
 }
 
 fn read(path: &Path) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))
+    crate::cli::files::read_text(path).map_err(|e| e.to_string())
 }
 
 /// Loads the scenario of `spec`; random worlds use the run seed `seed` the way `strider run`

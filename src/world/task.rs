@@ -28,10 +28,14 @@ impl Task {
     /// Default goal radius, metres.
     pub const DEFAULT_GOAL_RADIUS: f64 = 0.5;
 
+    /// Longest time limit a task may have, seconds (one day of simulated time).
+    pub const MAX_TIME_LIMIT_S: f64 = 86_400.0;
+
     /// A task from `start` to `goal` with default radius and a time limit scaled to the
-    /// straight-line distance (at least 60 s).
+    /// straight-line distance (10 s per metre, at least 60 s, at most [`Task::MAX_TIME_LIMIT_S`]).
     pub fn new(start: Pose, goal: DVec2) -> Task {
         let d = start.position.distance(goal);
-        Task { start, goal, goal_radius: Self::DEFAULT_GOAL_RADIUS, time_limit_s: (d * 10.0).max(60.0) }
+        let time_limit_s = (d * 10.0).clamp(60.0, Self::MAX_TIME_LIMIT_S);
+        Task { start, goal, goal_radius: Self::DEFAULT_GOAL_RADIUS, time_limit_s }
     }
 }
