@@ -9,6 +9,7 @@ pub mod experiment;
 pub mod files;
 pub mod fuzzy;
 pub mod render;
+pub mod reproduce;
 pub mod run;
 pub mod snapshot;
 pub mod tui;
@@ -56,6 +57,12 @@ pub enum Command {
     },
     /// Train the RL animation controller's policy (SARSA) on a database.
     Train(anim::TrainArgs),
+    /// Reproduce the papers' experiments (Table 1 of seed 000).
+    Reproduce {
+        /// The experiment.
+        #[command(subcommand)]
+        command: reproduce::ReproduceCommand,
+    },
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -103,6 +110,7 @@ pub fn main() -> ExitCode {
         Some(Command::Tui(args)) => tui::run(args),
         Some(Command::Db { command }) => anim::db(command),
         Some(Command::Train(args)) => anim::train(args),
+        Some(Command::Reproduce { command }) => reproduce::run(command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,6 +8,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod anim;
+pub mod baseline;
 pub mod builtin;
 pub mod cli;
 pub mod diagnostic;
@@ -17,6 +18,7 @@ pub mod geom;
 pub mod maps;
 pub mod plan;
 pub mod render;
+pub mod reproduce;
 pub mod rng;
 pub mod scenario;
 pub mod script;
