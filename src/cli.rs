@@ -10,6 +10,7 @@ pub mod fuzzy;
 pub mod render;
 pub mod run;
 pub mod snapshot;
+pub mod steps;
 pub mod tui;
 
 use std::io::{self, IsTerminal, Write};
@@ -56,6 +57,8 @@ pub enum Command {
     },
     /// Train the RL animation controller's policy (SARSA) on a database.
     Train(anim::TrainArgs),
+    /// Plan and walk the footsteps over a 1-D ground profile (`*.profile`).
+    Steps(steps::StepsArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -103,6 +106,7 @@ pub fn main() -> ExitCode {
         Some(Command::Tui(args)) => tui::run(args),
         Some(Command::Db { command }) => anim::db(command),
         Some(Command::Train(args)) => anim::train(args),
+        Some(Command::Steps(args)) => steps::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
