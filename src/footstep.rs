@@ -363,7 +363,7 @@ mod tests {
             (FootstepParams { window_steps: 9, ..ok }, "window_steps = 9"),
             (FootstepParams { window_steps: 6, intervals: 13, ..ok }, "≤ 1048576"),
             (FootstepParams { intervals: 200, step_max_m: 0.3, ..ok }, "step_init_m"),
-            (FootstepParams { intervals: 200, step_min_m: 0.64, step_max_m: 0.7, ..ok }, "1 mm"),
+            (FootstepParams { intervals: 100, step_min_m: 0.64, step_max_m: 0.7, ..ok }, "1 mm"),
             (FootstepParams { max_step_down_m: -0.1, ..ok }, "max_step_down_m"),
             (FootstepParams { leg: LegGeometry { thigh_m: 0.0, ..ok.leg }, ..ok }, "thigh_m"),
         ];

@@ -3,9 +3,9 @@
 //!
 //! A foothold at `x` is valid when the whole sole, the span `[x − L/2, x + L/2]` (`L` the foot
 //! length), lies on one stretch of ground with no gap and no vertical step inside it, every
-//! piece under it is no steeper than the limit, and the ground nowhere rises more than
-//! [`SOLE_CONFORMITY_M`] above the sole, the straight line from the ground under its heel end
-//! to the ground under its toe end. Consecutive footholds differ in height by at most the
+//! piece under it is no steeper than the limit, and the ground nowhere rises above the sole
+//! (the straight line from the ground under its heel end to the ground under its toe end): the
+//! sole may bridge a hollow, never straddle a crest. Consecutive footholds differ in height by at most the
 //! step-up and step-down limits.
 
 use std::fmt;
@@ -15,8 +15,9 @@ use glam::DVec2;
 use super::FootstepParams;
 use super::profile::{GroundProfile, Unsupported};
 
-/// How far the ground may rise above the sole's line (a bump under the arch), metres.
-pub const SOLE_CONFORMITY_M: f64 = 0.01;
+/// How far the ground may rise above the sole's line, metres: a numerical tolerance only — a
+/// rigid sole does not stand across a crest.
+pub const SOLE_CONFORMITY_M: f64 = 1e-6;
 
 /// Tolerance on the height limits, metres (a step exactly at the limit is allowed).
 const LIMIT_TOLERANCE_M: f64 = 1e-9;

@@ -14,8 +14,10 @@
 //!   height is linear in `H` (`z(t) = z0 (1−t)³ + z3 t³ + 3t(1−t) H`), the raise that clears the
 //!   ground is solved at each of [`SWING_SAMPLES`] samples and the largest is kept. The pitch of
 //!   the sole turns smoothly from the lift-off ground's to the touch-down ground's. Clear means
-//!   the whole sole is at least the clearance above the ground under it, the clearance growing
-//!   from 0 at lift-off to its full value and back to 0 at touch-down.
+//!   that at every sample the whole sole is at least the clearance above the ground under it,
+//!   and its heel and toe above the ground they sweep over on the way from the previous sample
+//!   and to the next; the clearance is a quarter of its full value at the first and last
+//!   samples and reaches it a fifth of the way in.
 //! - **Key frames of the pelvis.** At lift-off and touch-down (double support) the hip is midway
 //!   between the ankles, as high as both legs allow with the supporting knee at its mid-stance
 //!   flexion; at mid-swing it is over the supporting foot. Level ground: the hip rises over the
@@ -160,10 +162,11 @@ pub fn can_stand(params: &FootstepParams, from: &Sole, to: &Sole) -> Result<(), 
     double_support(leg, ankle_of(leg, from), ankle_of(leg, to), 1.0).map(|_| ())
 }
 
-/// The clearance the swinging sole keeps at phase `t`: 0 at the ends, the full value from a
-/// fifth of the way in.
+/// The clearance the swinging sole keeps at the sample at phase `t` (0 < t < 1): a quarter of
+/// the full value at the first and last samples, growing to the full value a fifth of the way
+/// in (the least clearance covers the curve's sag between samples).
 fn clearance_at(params: &FootstepParams, t: f64) -> f64 {
-    params.swing_clearance_m * (6.0 * t * (1.0 - t)).min(1.0)
+    params.swing_clearance_m * (6.0 * t * (1.0 - t)).clamp(0.25, 1.0)
 }
 
 impl Swing {
@@ -213,11 +216,20 @@ impl Swing {
         };
         let length = leg.foot_length_m();
         let mut needed = nominal;
+        let phase = |i: usize| i as f64 / SWING_SAMPLES as f64;
         for i in 1..SWING_SAMPLES {
-            let t = i as f64 / SWING_SAMPLES as f64;
+            let t = phase(i);
             let (x, base, pitch) = swing.curve_without_lift(t);
-            let half = 0.5 * length * pitch.cos();
-            let contact = ground.max_above_line(x - half, x + half, x, 0.0, pitch.tan());
+            let (behind, ahead) =
+                (x - swing.curve_without_lift(phase(i - 1)).0, swing.curve_without_lift(phase(i + 1)).0 - x);
+            let (half, rise) = (0.5 * length * pitch.cos(), 0.5 * length * pitch.sin());
+            // The ground under the sole, and the ground the heel and toe sweep over, at their
+            // heights, on the way from the previous sample and to the next: the sole keeps clear
+            // between samples too.
+            let contact = ground
+                .max_above_line(x - half, x + half, x, 0.0, pitch.tan())
+                .max(ground.max_above_line(x - half - behind, x - half, x, -rise, 0.0))
+                .max(ground.max_above_line(x + half, x + half + ahead, x, rise, 0.0));
             let lift = (contact + clearance_at(params, t) - base) / (3.0 * t * (1.0 - t));
             needed = needed.max(lift);
         }
@@ -234,6 +246,9 @@ impl Swing {
     /// The centre's X, its height without the control points' term, and the pitch, at `t`.
     fn curve_without_lift(&self, t: f64) -> (f64, f64, f64) {
         let (p0, p3) = (self.lift_off, self.touch_down);
+        if t >= 1.0 {
+            return (p3.x_m, p3.z_m, p3.pitch_rad);
+        }
         let u = 1.0 - t;
         let x = p0.x_m + (p3.x_m - p0.x_m) * t * t * (3.0 - 2.0 * t);
         let base = p0.z_m * u * u * u + p3.z_m * t * t * t;

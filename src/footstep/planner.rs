@@ -640,6 +640,17 @@ mod tests {
     }
 
     #[test]
+    fn the_widened_horizon_sees_what_the_window_does_not() {
+        // A window of one step cannot see the gap coming; the exhaustive look-ahead does, and
+        // the walker shortens its steps well before the edge.
+        let c = course("start 0\ngoal 6\nground -1 0 3 0\nground 3.6 0 8 0\n");
+        let params = FootstepParams { window_steps: 1, ..FootstepParams::default() };
+        let w = walk(&c, params, PlannerMode::Window).unwrap();
+        assert!(w.reached(), "{:?}", w.outcome);
+        assert!(w.footholds.iter().any(|f| (2.82..=2.88).contains(&f.sole.x_m)));
+    }
+
+    #[test]
     fn a_gap_too_wide_stops_at_the_edge_with_a_reason() {
         let c = course("start 0\ngoal 6\nground -1 0 3 0\nground 4.2 0 8 0\n");
         let w = walk(&c, FootstepParams::default(), PlannerMode::Window).unwrap();
