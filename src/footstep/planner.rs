@@ -213,7 +213,7 @@ enum Cell {
 }
 
 /// Tables of one window search, reused from step to step (only touched entries are reset).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct WindowTable {
     radix: usize,
     cells: Vec<Vec<Cell>>,
@@ -334,14 +334,15 @@ impl Search<'_, '_> {
     /// distance covered with the lengths shared differently.
     fn transfers(radix: usize, q: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
         let n = q.len();
-        (0..n).flat_map(move |i| (0..n).map(move |k| (i, k))).filter_map(move |(i, k)| {
-            (i != k && q[i] + 1 < radix && q[k] > 0).then(|| {
+        (0..n)
+            .flat_map(move |i| (0..n).map(move |k| (i, k)))
+            .filter(move |&(i, k)| i != k && q[i] + 1 < radix && q[k] > 0)
+            .map(move |(i, k)| {
                 let mut r = q.to_vec();
                 r[i] += 1;
                 r[k] -= 1;
                 r
             })
-        })
     }
 
     /// Breadth-first search from `q0` for an admissible configuration, then local search.
@@ -398,7 +399,8 @@ fn energy(swing: &Swing, step_m: f64, nominal_m: f64) -> f64 {
 
 /// The footstep planner over one ground profile: call [`next_step`](Self::next_step) with the
 /// nominal step of each new step (the animation's interval gives it); the planner keeps the
-/// footholds taken so far and the window to slide.
+/// footholds taken so far and the window to slide. A clone continues independently.
+#[derive(Clone)]
 pub struct FootstepPlanner<'g> {
     model: StepModel<'g>,
     steps: StepSet,

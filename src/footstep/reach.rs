@@ -25,6 +25,7 @@ use super::{FootstepParams, planner::position_m};
 pub(crate) type State = (i64, i64);
 
 /// The ground, the parameters and a cache of where soles can stand.
+#[derive(Clone)]
 pub(crate) struct StepModel<'a> {
     pub(crate) ground: &'a GroundProfile,
     pub(crate) params: FootstepParams,
@@ -87,6 +88,7 @@ struct Frame {
 }
 
 /// The memoised search; see the [module docs](self).
+#[derive(Clone)]
 pub(crate) struct Reachability {
     pub(crate) target: Target,
     goal_m: f64,
