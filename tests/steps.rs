@@ -7,6 +7,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+use proptest::prelude::*;
 use strider::footstep::legs::SWING_SAMPLES;
 use strider::footstep::profile::parse;
 use strider::footstep::{
@@ -318,6 +319,36 @@ fn generated_profiles_of_every_kind_agree_with_the_exhaustive_search() {
         eprintln!("{kind}: {crossed} crossed, {stopped} stopped");
         // The generators make both kinds of profile.
         assert!(crossed >= 10 && stopped >= 10, "{kind}: {crossed} crossed, {stopped} stopped");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Arbitrary pieces — each a run of ground after a gap (possibly none) and a jump in height,
+    /// flat or sloping — are walked safely and in agreement with the exhaustive search.
+    #[test]
+    fn arbitrary_profiles_agree_with_the_exhaustive_search(
+        pieces in prop::collection::vec((0.0f64..0.9, -0.6f64..0.6, 0.05f64..1.6, -0.8f64..0.8), 1..7)
+    ) {
+        let mut b = Builder::new();
+        for (gap, jump, length, slope) in pieces {
+            if gap > 0.3 {
+                b.gap(gap - 0.3);
+            }
+            b.step(jump);
+            b.slope(length, slope * length);
+        }
+        agree(&b.finish(), &FootstepParams::default(), "arbitrary");
+    }
+
+    /// Any text is read or refused with a located error; never a panic.
+    #[test]
+    fn any_text_is_read_or_refused(text in "(start|goal|ground|[a-z]{1,3}|-?[0-9]{1,2}(\\.[0-9])?|nan|inf|#|\n| |\t){0,60}") {
+        if let Ok(course) = parse(&text, "any.profile") {
+            // A parsed course can be handed to the planner: it plans or refuses the start.
+            let _ = walk(&course, FootstepParams::default(), PlannerMode::Window);
+        }
     }
 }
 

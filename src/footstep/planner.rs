@@ -189,7 +189,7 @@ pub struct PlannedStep {
     pub swing: Swing,
     /// The configuration it is the first step of, metres (just the step without planning).
     pub window_m: Vec<f64>,
-    /// Configurations whose admissibility was decided (0 without planning).
+    /// Configurations the search queued or evaluated (0 without planning).
     pub configurations: usize,
 }
 
