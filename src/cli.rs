@@ -12,6 +12,7 @@ pub mod render;
 pub mod reproduce;
 pub mod run;
 pub mod snapshot;
+pub mod steps;
 pub mod tui;
 
 use std::io::{self, IsTerminal, Write};
@@ -63,6 +64,8 @@ pub enum Command {
         #[command(subcommand)]
         command: reproduce::ReproduceCommand,
     },
+    /// Plan and walk the footsteps over a 1-D ground profile (`*.profile`).
+    Steps(steps::StepsArgs),
 }
 
 /// A failure of a command, with the exit code it maps to.
@@ -111,6 +114,7 @@ pub fn main() -> ExitCode {
         Some(Command::Db { command }) => anim::db(command),
         Some(Command::Train(args)) => anim::train(args),
         Some(Command::Reproduce { command }) => reproduce::run(command),
+        Some(Command::Steps(args)) => steps::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

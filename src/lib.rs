@@ -13,6 +13,7 @@ pub mod builtin;
 pub mod cli;
 pub mod diagnostic;
 pub mod experiment;
+pub mod footstep;
 pub mod fuzzy;
 pub mod geom;
 pub mod maps;

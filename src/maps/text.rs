@@ -112,14 +112,16 @@ fn write_points(out: &mut String, keyword: &str, points: &[DVec2]) {
 
 /// One whitespace-separated word and its 1-based column (in characters).
 #[derive(Debug, Clone, Copy)]
-struct Tok<'a> {
-    text: &'a str,
-    col: usize,
+pub(crate) struct Tok<'a> {
+    /// The word.
+    pub(crate) text: &'a str,
+    /// Its 1-based column, in characters.
+    pub(crate) col: usize,
 }
 
 /// Splits a line into tokens, stopping at `#`. Also returns the column just past the last
-/// token, for "missing number" errors.
-fn tokenize(line: &str) -> (Vec<Tok<'_>>, usize) {
+/// token, for "missing number" errors. Shared with the other line formats (`*.profile`).
+pub(crate) fn tokenize(line: &str) -> (Vec<Tok<'_>>, usize) {
     let mut toks = Vec::new();
     let mut start: Option<(usize, usize)> = None;
     let mut col = 0;
