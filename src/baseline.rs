@@ -23,6 +23,12 @@
 //! So the state has `4 + 3k` parameters: `k` = 0, 2 and 4 give the 4 / 10 / 16 of Table 1 for
 //! the sparse, semi-cluttered and cluttered environments ([`PureRlParams::for_density`]).
 //!
+//! A table over so many cells is mostly empty: a state seen for the first time starts from the
+//! values of its **coarse** state (the same interval, goal and free distance ahead, without the
+//! obstacles), a second table trained alongside on every step — tabular back-off, so that the
+//! baseline goes toward the goal from its first episode and learns the obstacles where it
+//! meets them.
+//!
 //! ## Episodes
 //! From a switch point the chosen candidate's root path ([`SwitchPoint::path`], cross-fade
 //! included) is played; the episode ends with a collision (the body's disc overlaps an
@@ -145,32 +151,38 @@ pub struct PureRl {
     /// Episodes trained.
     pub episodes: u64,
     table: BTreeMap<u64, Vec<f32>>,
+    /// Values of the coarse states (no obstacles), trained alongside: a full state seen for
+    /// the first time starts from them.
+    coarse: BTreeMap<u64, Vec<f32>>,
 }
 
-/// What one step of an episode sees and does.
-struct Step {
-    state: u64,
-    action: usize,
+/// A state: its full key and the key of the same state without the obstacles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct State {
+    /// Every parameter.
+    pub full: u64,
+    /// The interval, the goal and the free distance ahead only.
+    pub coarse: u64,
 }
 
 impl PureRl {
     /// An untrained table.
     pub fn new(params: PureRlParams) -> PureRl {
-        PureRl { params, episodes: 0, table: BTreeMap::new() }
+        PureRl { params, episodes: 0, table: BTreeMap::new(), coarse: BTreeMap::new() }
     }
 
-    /// Visited states.
+    /// Visited states (full and coarse).
     pub fn visited_states(&self) -> usize {
-        self.table.len()
+        self.table.len() + self.coarse.len()
     }
 
-    /// Stored action values.
+    /// Stored action values (full and coarse states).
     pub fn stored_entries(&self) -> usize {
-        self.table.values().map(Vec::len).sum()
+        self.table.values().chain(self.coarse.values()).map(Vec::len).sum()
     }
 
     /// Encodes the state at switch point `at` (see the module docs).
-    pub fn state(&self, world: &World, at: &SwitchPoint, goal: DVec2, scratch: &mut Vec<usize>) -> u64 {
+    pub fn state(&self, world: &World, at: &SwitchPoint, goal: DVec2, scratch: &mut Vec<usize>) -> State {
         let g = at.ground;
         let here = DVec2::new(g.x, g.y);
         let to_goal = goal - here;
@@ -185,6 +197,7 @@ impl PureRl {
         let heading = DVec2::from_angle(g.yaw);
         let ahead = free_ahead(world, here, heading, self.params.radius, AHEAD_CLASSES[1], scratch);
         key = key * (AHEAD_CLASSES.len() as u64 + 1) + ring(ahead, &AHEAD_CLASSES);
+        let coarse = key;
         if self.params.obstacles > 0 {
             // The nearest obstacles by the distance to their surface.
             world.parts_near(here, SENSE_RANGE_M, scratch);
@@ -215,7 +228,11 @@ impl PureRl {
                     0
                 } else {
                     // Axis of the long side against the line of sight.
-                    let axis = if obb.half_extents.x >= obb.half_extents.y { obb.yaw } else { obb.yaw + 0.5 * std::f64::consts::PI };
+                    let axis = if obb.half_extents.x >= obb.half_extents.y {
+                        obb.yaw
+                    } else {
+                        obb.yaw + 0.5 * std::f64::consts::PI
+                    };
                     let across = (DVec2::from_angle(axis).perp_dot(to.normalize_or_zero())).abs();
                     if across > std::f64::consts::FRAC_1_SQRT_2 { 1 } else { 2 }
                 };
@@ -226,24 +243,28 @@ impl PureRl {
                 key = key.wrapping_add(cell);
             }
         }
-        key
+        State { full: key, coarse }
     }
 
-    fn values(&self, state: u64) -> Option<&[f32]> {
-        self.table.get(&state).map(Vec::as_slice)
+    fn values(&self, state: State) -> Option<&[f32]> {
+        self.table.get(&state.full).or_else(|| self.coarse.get(&state.coarse)).map(Vec::as_slice)
     }
 
     /// The greedy choice among `n` candidates (lowest index on ties; the natural successor,
     /// candidate 0, in a state never visited).
-    pub fn greedy(&self, state: u64, n: usize) -> usize {
+    pub fn greedy(&self, state: State, n: usize) -> usize {
         match self.values(state) {
             Some(v) => (0..n.min(v.len())).fold(0, |best, a| if v[a] > v[best] { a } else { best }),
             None => 0,
         }
     }
 
-    fn choose(&self, state: u64, n: usize, epsilon: f64, rng: &mut ChaCha8Rng) -> usize {
-        if crate::rng::unit(rng) < epsilon { (rng.next_u64() % n.max(1) as u64) as usize } else { self.greedy(state, n) }
+    fn choose(&self, state: State, n: usize, epsilon: f64, rng: &mut ChaCha8Rng) -> usize {
+        if crate::rng::unit(rng) < epsilon {
+            (rng.next_u64() % n.max(1) as u64) as usize
+        } else {
+            self.greedy(state, n)
+        }
     }
 
     /// Plays one episode of `task` in `world`; with `learn`, explores with the current ε and
@@ -301,10 +322,9 @@ impl PureRl {
                 Some(Ending::Reached) => p.arrival_reward,
                 _ => (before - after) - p.time_cost * db.intervals[interval].duration,
             };
-            let step = Step { state, action };
             if let Some(end) = outcome {
                 if learn {
-                    self.update(&step, n_of(&at), reward, None);
+                    self.update(state, action, n_of(&at), reward, None);
                 }
                 ending = end;
                 break;
@@ -312,8 +332,7 @@ impl PureRl {
             let next_state = self.state(world, &next, task.goal, &mut scratch);
             let next_action = self.choose(next_state, n_of(&next), epsilon, &mut rng);
             if learn {
-                let q_next = self.values(next_state).and_then(|v| v.get(next_action)).copied().unwrap_or(0.0);
-                self.update(&step, n_of(&at), reward, Some(q_next));
+                self.update(state, action, n_of(&at), reward, Some((next_state, next_action)));
             }
             at = next;
             state = next_state;
@@ -325,16 +344,25 @@ impl PureRl {
         (ending, decisions)
     }
 
-    /// SARSA: `Q(s, a) += α (r + γ Q(s', a') − Q(s, a))` (no bootstrap at the end).
-    fn update(&mut self, step: &Step, n: usize, reward: f64, next: Option<f32>) {
+    /// SARSA: `Q(s, a) += α (r + γ Q(s', a') − Q(s, a))` (no bootstrap at the end), for the
+    /// full state (created from the coarse one's values) and for the coarse state.
+    fn update(&mut self, state: State, action: usize, n: usize, reward: f64, next: Option<(State, usize)>) {
         let (alpha, gamma) = (self.params.alpha, self.params.gamma);
-        let v = self.table.entry(step.state).or_insert_with(|| vec![0.0; n]);
-        if v.len() < n {
-            v.resize(n, 0.0);
+        let next_full = next.map(|(s, a)| self.values(s).and_then(|v| v.get(a)).copied().unwrap_or(0.0));
+        let next_coarse = next.map(|(s, a)| self.coarse.get(&s.coarse).and_then(|v| v.get(a)).copied().unwrap_or(0.0));
+        let seed = self.coarse.get(&state.coarse).cloned().unwrap_or_default();
+        let learn = |v: &mut Vec<f32>, next: Option<f32>| {
+            if v.len() < n {
+                v.resize(n, 0.0);
+            }
+            let target = reward + next.map_or(0.0, |q| gamma * f64::from(q));
+            let q = &mut v[action];
+            *q += (alpha * (target - f64::from(*q))) as f32;
+        };
+        if self.params.obstacles > 0 {
+            learn(self.table.entry(state.full).or_insert(seed), next_full);
         }
-        let target = reward + next.map_or(0.0, |q| gamma * f64::from(q));
-        let q = &mut v[step.action];
-        *q += (alpha * (target - f64::from(*q))) as f32;
+        learn(self.coarse.entry(state.coarse).or_default(), next_coarse);
     }
 }
 

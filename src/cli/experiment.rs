@@ -48,7 +48,7 @@ type Res<T> = Result<T, Box<EvalAltResult>>;
 
 /// A scenario (world and tasks) held by a script.
 #[derive(Debug, Clone)]
-pub struct ScenarioHandle(Arc<Scenario>);
+pub struct ScenarioHandle(pub(crate) Arc<Scenario>);
 
 /// `strider experiment` options.
 #[derive(Debug, Args)]
@@ -69,7 +69,7 @@ fn engines(rules: &Array) -> Res<Vec<Engine>> {
         .collect()
 }
 
-fn controller(rules: &Array) -> Res<LayeredController> {
+pub(crate) fn controller(rules: &Array) -> Res<LayeredController> {
     let list = engines(rules)?;
     for e in &list {
         e.validate().map_err(|err| -> Box<EvalAltResult> { format!("engine '{}': {}", e.name, err.message).into() })?;
@@ -137,7 +137,7 @@ impl EpisodeBudget {
     }
 
     /// Takes `n` episodes from the budget, or fails without taking any.
-    fn spend(&self, n: u64) -> Res<()> {
+    pub(crate) fn spend(&self, n: u64) -> Res<()> {
         let mut left = self.0.borrow_mut();
         if n > *left {
             return Err(
@@ -305,7 +305,7 @@ fn take_snapshot(
     Ok(m)
 }
 
-fn failure_text(f: Failure) -> Box<EvalAltResult> {
+pub(crate) fn failure_text(f: Failure) -> Box<EvalAltResult> {
     match f {
         Failure::Input(e) | Failure::Task(e) => format!("{e:#}").into(),
     }
@@ -359,7 +359,9 @@ pub fn run(args: ExperimentArgs) -> Outcome {
             std::process::exit(0);
         }
     });
-    register(&mut engine, Path::new("."), &EpisodeBudget::default());
+    let budget = EpisodeBudget::default();
+    register(&mut engine, Path::new("."), &budget);
+    super::reproduce::register(&mut engine, &budget);
     let failures = register_snapshot(&mut engine, Path::new("."));
     let ast = engine.compile(&source).map_err(|e| {
         let pos = e.position();
