@@ -376,7 +376,7 @@ fn live_view_and_experiments_take_the_kinds() {
         let s = loaded.result.unwrap();
         assert!(s.name.starts_with(&format!("random-{}-", k.name())));
     }
-    assert!(MapSpec::parse(Some("random:castle")).unwrap_err().contains("castle"));
+    assert!(MapSpec::parse(Some("random:castle")).unwrap_err().to_string().contains("castle"));
 
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
     let script = dir.join("generators_experiment.rhai");

@@ -48,8 +48,8 @@ fn shipped_maps_are_solved_without_collisions() {
 
 /// Both bodies: the disc and the animated character the papers are about.
 fn bodies() -> [(&'static str, StepParameters); 2] {
-    let db = strider::cli::anim::builtin_database().unwrap();
-    let policy = strider::anim::policy::Policy::from_bytes(strider::cli::anim::DEFAULT_POLICY, &db).unwrap();
+    let db = strider::builtin::database().unwrap();
+    let policy = strider::anim::policy::Policy::from_bytes(strider::builtin::DEFAULT_POLICY, &db).unwrap();
     let anim = strider::sim::animated::Animation::new(db, policy);
     let animated = StepParameters {
         animation: Some(strider::sim::animated::AnimationHandle(std::sync::Arc::new(anim))),

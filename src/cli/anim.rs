@@ -169,13 +169,10 @@ pub struct Manifest {
 const MANIFEST: &str = "database.json";
 const FORMAT: &str = "strider-animation-db";
 
-/// The built-in database: the 22-DOF actor's generated clips, intervals detected.
+/// The built-in database ([`crate::builtin::database`]), its errors as the command line's.
 pub fn builtin_database() -> Result<Database, Failure> {
-    crate::anim::procedural::default_database().map_err(|e| anyhow!("built-in animation database: {e}").into())
+    crate::builtin::database().map_err(|e| anyhow!("built-in animation database: {e}").into())
 }
-
-/// The policy shipped for the built-in database.
-pub const DEFAULT_POLICY: &[u8] = include_bytes!("../../assets/default.policy");
 
 fn read_bvh(path: &Path, scale: f64) -> Result<(Skeleton, Clip), Failure> {
     parse_bvh(path, &files::read_text(path)?, scale)
@@ -644,7 +641,7 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
             let bytes = files::read_bytes(p)?;
             Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
         }
-        (None, None) => Policy::from_bytes(DEFAULT_POLICY, &db).map_err(|e| anyhow!("assets/default.policy: {e}"))?,
+        (None, None) => crate::builtin::policy(&db).map_err(|e| anyhow!("{}: {e}", crate::builtin::DEFAULT_POLICY_FILE))?,
         (None, Some(d)) => {
             return Err(anyhow!(
                 "{}: give its policy with --policy FILE (train one with `strider train --db {} --out FILE`)",

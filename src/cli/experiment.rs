@@ -32,9 +32,8 @@ use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use super::anim::{BodyArgs, BodyKind, load_animation};
-use super::run::{MapSource, job, load_map};
+use super::load::{self, MapSource, MapSpec, job};
 use super::{Failure, Outcome};
-use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
 use crate::experiment::{self, EpisodeRecord, Summary};
 use crate::fuzzy::Engine;
 use crate::maps::kind::{self, WorldKind};
@@ -168,11 +167,13 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
     engine.register_type_with_name::<ScenarioHandle>("Scenario");
     let dir = base.to_path_buf();
     engine.register_fn("load_map", move |path: &str| -> Res<ScenarioHandle> {
-        let full = dir.join(path);
-        match load_map(&full.to_string_lossy(), None) {
+        if path.starts_with("random:") {
+            return Err(format!("'{path}' is a generator; use random_world").into());
+        }
+        match load::load_map(&MapSpec::file(dir.join(path))).logged() {
             Ok(MapSource::Scenario(s)) => Ok(ScenarioHandle(s)),
             Ok(MapSource::Random(_)) => Err(format!("'{path}' is a generator; use random_world").into()),
-            Err(e) => Err(failure_text(e)),
+            Err(e) => Err(e.to_string().into()),
         }
     });
     engine.register_fn("random_world", |name: &str, seed: i64| -> Res<ScenarioHandle> {
@@ -182,16 +183,13 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
     engine.register_fn("name", |s: &mut ScenarioHandle| s.0.name.clone());
     engine.register_fn("tasks", |s: &mut ScenarioHandle| s.0.tasks.len() as i64);
     engine.register_fn("default_rules", || -> Res<Array> {
-        let log = ScriptLog::new();
-        let list = fuzzy_api::load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &log)
-            .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        let list = load::load_engines(None).logged().map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });
     let dir = base.to_path_buf();
     engine.register_fn("load_rules", move |path: &str| -> Res<Array> {
-        let full = dir.join(path);
-        let text = super::files::read_text(&full).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
-        let list = fuzzy_api::load_engines(&text, &full.to_string_lossy(), Limits::default(), &ScriptLog::new())
+        let list = load::load_engines(Some(&dir.join(path)))
+            .logged()
             .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });
@@ -319,12 +317,11 @@ pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFail
     let resolve = {
         let base = base.to_path_buf();
         move |path: &str| -> Res<MapSource> {
-            let full = if path.starts_with("random:") {
-                path.to_string()
-            } else {
-                base.join(path).to_string_lossy().into_owned()
+            let spec = match MapSpec::parse(Some(path)).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })? {
+                MapSpec::File { path, scen } => MapSpec::File { path: base.join(path), scen },
+                other => other,
             };
-            load_map(&full, None).map_err(failure_text)
+            load::load_map(&spec).logged().map_err(|e| e.to_string().into())
         }
     };
     let (f, b) = (failures.clone(), base.to_path_buf());
