@@ -502,3 +502,17 @@ fn fuzz_policies() {
         panic!("fuzz policy: {e}");
     }
 }
+
+// Regressions: inputs the fuzzer found, fixed where they went wrong.
+
+/// A Rhai map accepted a cylinder of radius 0 that its own text export then refused: every
+/// importer now refuses it, naming the line.
+#[test]
+fn regression_a_cylinder_of_zero_radius_is_refused_by_every_importer() {
+    let script = "let m = world(\"w\");\nm.start(0.0, 0.0, 0.0);\nm.goal(9.0, 0.0, 0.5);\nm.cylinder(2.0, 0.7, 0);\nm";
+    let e = map_api::load_scenario(script, "m.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+    assert_eq!(e.line, 4, "{e}");
+    assert!(e.message.contains("radius"), "{e}");
+    let e = text::parse("start 0 0\ngoal 9 0\ncyl 2 0.7 0\n", "w.txt").unwrap_err();
+    assert_eq!(e.line, 3, "{e}");
+}
