@@ -392,7 +392,9 @@ print(`episodes ${s.episodes}`);
     .unwrap();
     let o = strider(&["experiment", &script.to_string_lossy()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let out = String::from_utf8_lossy(&o.stdout);
+    // `print` goes to the log, stderr; stdout stays empty.
+    assert!(o.stdout.is_empty());
+    let out = String::from_utf8_lossy(&o.stderr);
     assert!(out.contains("name random-rooms-3 tasks 1"), "{out}");
     assert!(out.contains("episodes 2"), "{out}");
 }
