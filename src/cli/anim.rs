@@ -641,7 +641,9 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
             let bytes = files::read_bytes(p)?;
             Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
         }
-        (None, None) => crate::builtin::policy(&db).map_err(|e| anyhow!("{}: {e}", crate::builtin::DEFAULT_POLICY_FILE))?,
+        (None, None) => {
+            crate::builtin::policy(&db).map_err(|e| anyhow!("{}: {e}", crate::builtin::DEFAULT_POLICY_FILE))?
+        }
         (None, Some(d)) => {
             return Err(anyhow!(
                 "{}: give its policy with --policy FILE (train one with `strider train --db {} --out FILE`)",

@@ -203,10 +203,10 @@ mod tests {
     fn map_arguments_parse_once_into_a_spec() {
         assert_eq!(MapSpec::parse(None).unwrap(), MapSpec::BuiltIn);
         assert_eq!(MapSpec::parse(Some("random:maze")).unwrap(), MapSpec::Random(WorldKind::Maze));
-        assert_eq!(MapSpec::parse(Some("a.map")).unwrap().with_scen(Some("b.scen".into())), MapSpec::File {
-            path: "a.map".into(),
-            scen: Some("b.scen".into())
-        });
+        assert_eq!(
+            MapSpec::parse(Some("a.map")).unwrap().with_scen(Some("b.scen".into())),
+            MapSpec::File { path: "a.map".into(), scen: Some("b.scen".into()) }
+        );
         let e = MapSpec::parse(Some("random:castle")).unwrap_err();
         assert_eq!(e.file, "random:castle");
     }
@@ -216,8 +216,11 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("strider-load-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let map = dir.join("m.rhai");
-        std::fs::write(&map, "print(\"hello\");\nlet m = world(\"w\");\nm.start(0.0, 0.0, 0.0);\nm.goal(5.0, 0.0, 0.5);\nm")
-            .unwrap();
+        std::fs::write(
+            &map,
+            "print(\"hello\");\nlet m = world(\"w\");\nm.start(0.0, 0.0, 0.0);\nm.goal(5.0, 0.0, 0.5);\nm",
+        )
+        .unwrap();
         let loaded = load_map(&MapSpec::file(&map));
         assert!(loaded.result.is_ok());
         assert_eq!(loaded.log, vec![format!("{}: hello", map.display())]);

@@ -8,9 +8,9 @@ use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 
 use super::files;
-use super::{Failure, Outcome};
 pub use super::load::{MapSource, MapSpec, episode_count, job};
 use super::load::{load_map, load_rules};
+use super::{Failure, Outcome};
 use crate::experiment::{self, EpisodeRecord, Field};
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::text;
