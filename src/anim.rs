@@ -12,6 +12,7 @@ pub mod db;
 pub mod player;
 pub mod policy;
 pub mod procedural;
+pub mod rig;
 pub mod skeleton;
 
 pub use clip::{Clip, Ground, mirror_pairs, mirror_rotation};

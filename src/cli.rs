@@ -8,6 +8,7 @@ pub mod db_strip;
 pub mod experiment;
 pub mod files;
 pub mod fuzzy;
+pub mod load;
 pub mod render;
 pub mod reproduce;
 pub mod run;

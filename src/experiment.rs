@@ -15,8 +15,9 @@ use crate::scenario::{BARN_SPEED_MPS, Scenario};
 use crate::sim::{LayeredController, Outcome, Simulation, StepParameters};
 use crate::world::World;
 
-/// The measurements of one episode.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// The measurements of one episode. [`EpisodeRecord::fields`] lists them in order; JSON and CSV
+/// are both written from that list, so the two formats always carry the same fields.
+#[derive(Debug, Clone, PartialEq)]
 pub struct EpisodeRecord {
     /// Episode number within the batch.
     pub episode: usize,
@@ -49,43 +50,116 @@ pub struct EpisodeRecord {
     /// Times boundary following started.
     pub boundary_follows: u32,
     /// Animated body only: mean horizontal slide of contact feet, centimetres per 60 Hz frame.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub foot_skating_cm_per_frame: Option<f64>,
     /// Animated body only: Σ contact weight of the skating measure (to weigh episodes).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_weight: Option<f64>,
     /// Animated body only: foot plants (touch-down to lift-off).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub plants: Option<u64>,
     /// Animated body only: plants whose heel or toe slid 2 cm or more.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub sliding_plants: Option<u64>,
     /// Animated body only: mean pose distance (Eq. 1) at transitions between intervals.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub transition_cost: Option<f64>,
     /// Animated body only: transitions (switches to other than the clip's next interval).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub transitions: Option<u64>,
     /// Animated body only: largest joint jerk within 0.25 s of a transition, m/s³.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_switch_jerk_mps3: Option<f64>,
     /// Animated body only: RMS distance between the commanded path (commands integrated from
     /// the root at each switch point) and the root path, metres.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub tracking_rms_m: Option<f64>,
     /// Animated body only: RMS difference between the commanded heading and the heading, degrees.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub heading_rms_deg: Option<f64>,
     /// Animated body only: RMS difference between the commanded and the actual speed, m/s.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub speed_rms_mps: Option<f64>,
     /// Worlds with a benchmark reference (BARN): the BARN metric, `success · OT / clip(AT,
     /// 2·OT, 8·OT)` with OT the reference path at 2 m/s (at most 0.5).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub barn_score: Option<f64>,
     /// The same with OT the reference path at the run's walking speed ([`walking_speed`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub barn_score_walking: Option<f64>,
+}
+
+/// One value of an [`EpisodeRecord`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Field<'a> {
+    /// A count.
+    Count(u64),
+    /// A measurement.
+    Number(f64),
+    /// Yes or no.
+    Flag(bool),
+    /// A name.
+    Text(&'a str),
+    /// Not measured in this episode (the disc body has no animation figures).
+    Missing,
+}
+
+impl From<Option<f64>> for Field<'_> {
+    fn from(x: Option<f64>) -> Self {
+        x.map_or(Field::Missing, Field::Number)
+    }
+}
+
+impl From<Option<u64>> for Field<'_> {
+    fn from(x: Option<u64>) -> Self {
+        x.map_or(Field::Missing, Field::Count)
+    }
+}
+
+impl EpisodeRecord {
+    /// Every field, named, in the order output formats list them.
+    pub fn fields(&self) -> [(&'static str, Field<'_>); 26] {
+        use Field::{Count, Flag, Number, Text};
+        [
+            ("episode", Count(self.episode as u64)),
+            ("scenario", Text(&self.scenario)),
+            ("task", Count(self.task as u64)),
+            ("seed", Count(self.seed)),
+            ("reached", Flag(self.reached)),
+            ("collisions", Count(u64::from(self.collisions))),
+            ("time_s", Number(self.time_s)),
+            ("path_length_m", Number(self.path_length_m)),
+            ("optimal_length_m", self.optimal_length_m.into()),
+            ("path_ratio", self.path_ratio.into()),
+            ("min_clearance_m", Number(self.min_clearance_m)),
+            ("steps", Count(u64::from(self.steps))),
+            ("stalls", Count(u64::from(self.stalls))),
+            ("boundary_follows", Count(u64::from(self.boundary_follows))),
+            ("foot_skating_cm_per_frame", self.foot_skating_cm_per_frame.into()),
+            ("contact_weight", self.contact_weight.into()),
+            ("plants", self.plants.into()),
+            ("sliding_plants", self.sliding_plants.into()),
+            ("transition_cost", self.transition_cost.into()),
+            ("transitions", self.transitions.into()),
+            ("peak_switch_jerk_mps3", self.peak_switch_jerk_mps3.into()),
+            ("tracking_rms_m", self.tracking_rms_m.into()),
+            ("heading_rms_deg", self.heading_rms_deg.into()),
+            ("speed_rms_mps", self.speed_rms_mps.into()),
+            ("barn_score", self.barn_score.into()),
+            ("barn_score_walking", self.barn_score_walking.into()),
+        ]
+    }
+}
+
+/// An object of [`EpisodeRecord::fields`]: a missing optimal length or path ratio is `null`,
+/// other missing figures (the animation and BARN ones) are left out.
+impl Serialize for EpisodeRecord {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let fields = self.fields();
+        let mut map = serializer.serialize_map(None)?;
+        for (name, f) in fields {
+            match f {
+                Field::Count(v) => map.serialize_entry(name, &v)?,
+                Field::Number(v) => map.serialize_entry(name, &v)?,
+                Field::Flag(v) => map.serialize_entry(name, &v)?,
+                Field::Text(v) => map.serialize_entry(name, v)?,
+                Field::Missing if matches!(name, "optimal_length_m" | "path_ratio") => {
+                    map.serialize_entry(name, &None::<f64>)?
+                }
+                Field::Missing => {}
+            }
+        }
+        map.end()
+    }
 }
 
 /// Aggregate figures of a batch.

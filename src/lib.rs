@@ -1,8 +1,11 @@
 //! strider: a terminal / 2D top-down simulator and scripting host for character locomotion
 //! planning. See `ARCHITECTURE.md` for the map of the crate.
 //!
-//! Dependencies flow one way: the core ([`fuzzy`]) does no IO and reads no clock; [`script`]
-//! builds core data from Rhai; [`render`] and [`cli`] are front-ends.
+//! Dependencies flow one way: the core ([`fuzzy`], [`geom`], [`world`], [`plan`], [`anim`],
+//! [`sim`], [`experiment`], [`scenario`], [`maps`], [`rng`]) does no IO, reads no clock and owns
+//! no global random generator (every random number comes from an [`rng::stream`] keyed by the
+//! inputs); [`script`] builds core data from Rhai; [`render`], [`tui`], [`cli`] and
+//! [`snapshot`] are front-ends, and [`builtin`] holds the data compiled into the binary.
 
 // `!(x > 0.0)` is deliberately true for NaN; the code relies on that to reject NaN input.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -1,6 +1,8 @@
 //! Seeded, portable random numbers: every random stream in strider comes from a ChaCha8
-//! generator keyed by a `(seed, episode, stream)` triple, so runs are reproducible bit for bit
-//! on every platform (DESIGN.md §7). Nothing here reads a clock or global state.
+//! generator keyed by three numbers derived from the inputs — `(seed, episode, stream)` for
+//! training, `(world seed, attempt, stream)` for the world generators (the world seed of episode
+//! `i` is [`crate::experiment::world_seed`]) — so runs are reproducible bit for bit on every
+//! platform (DESIGN.md §7). Nothing here reads a clock or global state.
 
 use rand_chacha::ChaCha8Rng;
 use rand_core::{RngCore, SeedableRng};

@@ -412,9 +412,10 @@ pub fn update_requested() -> bool {
 /// Loads the episode a [`Spec`] describes (map, rules, body; the episode numbered as in
 /// `strider run`). Errors name the file at fault.
 pub fn load(spec: &Spec) -> Result<Episode, Error> {
-    use crate::cli::run::{job, load_controller, load_map};
-    let source = load_map(&spec.map, spec.scen.as_deref())?;
-    let controller = load_controller(spec.rules.as_deref())?;
+    use crate::cli::load::{MapSpec, job, load_map, load_rules};
+    let map = MapSpec::parse(Some(&spec.map)).map_err(|e| Error::Input(e.into()))?.with_scen(spec.scen.clone());
+    let source = load_map(&map).logged().map_err(|e| Error::Input(e.into()))?;
+    let controller = load_rules(spec.rules.as_deref()).logged().map_err(|e| Error::Input(e.into()))?;
     let job = job(&source, spec.episode, spec.seed);
     let animation = crate::cli::anim::load_animation(&spec.body)?;
     Ok(Episode::new(job.scenario, job.task, job.seed, controller, animation))

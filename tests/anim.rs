@@ -10,7 +10,8 @@ use glam::DVec2;
 use strider::anim::player::{Chooser, Player, PlayerParams, SwitchPoint};
 use strider::anim::policy::{Errors, Policy, Strategy, evaluate};
 use strider::anim::{Database, Ground};
-use strider::cli::anim::{DEFAULT_POLICY, builtin_database, load_database, parse_intervals, save_database};
+use strider::builtin::{self, DEFAULT_POLICY};
+use strider::cli::anim::{load_database, parse_intervals, save_database};
 use strider::experiment::run_episode;
 use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
 use strider::sim::{
@@ -35,14 +36,14 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn animation() -> Arc<Animation> {
-    let db = builtin_database().expect("built-in database");
+    let db = builtin::database().expect("built-in database");
     let policy = Policy::from_bytes(DEFAULT_POLICY, &db).expect("shipped policy matches the built-in database");
     Arc::new(Animation::new(db, policy))
 }
 
 #[test]
 fn builtin_database_has_the_actor_and_enough_intervals() {
-    let db = builtin_database().unwrap();
+    let db = builtin::database().unwrap();
     let dof: usize = db.skeleton.joints().iter().map(|j| j.channels.len()).sum();
     assert_eq!(dof, 22);
     assert!(db.intervals.len() >= 200, "{} intervals", db.intervals.len());
@@ -79,7 +80,7 @@ fn shipped_policy_belongs_to_the_builtin_database() {
 
 #[test]
 fn database_directories_round_trip() {
-    let db = builtin_database().unwrap();
+    let db = builtin::database().unwrap();
     let dir = temp_dir("db_round_trip");
     save_database(&db, &dir).unwrap();
     let back = load_database(&dir).unwrap();
@@ -98,7 +99,7 @@ fn database_directories_round_trip() {
 
 #[test]
 fn shipped_clips_are_the_generated_ones() {
-    let db = builtin_database().unwrap();
+    let db = builtin::database().unwrap();
     let shipped = load_database(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/db"))).unwrap();
     let spans = |d: &strider::anim::Database| d.intervals.iter().map(|i| (i.clip, i.start, i.end)).collect::<Vec<_>>();
     assert_eq!(spans(&shipped), spans(&db), "assets/db is stale: run `strider db export --out assets/db`");
@@ -323,7 +324,7 @@ fn the_learnt_policy_earns_its_place() {
 
 #[test]
 fn every_interval_reaches_a_stop_and_turns_on_the_spot_in_one_switch() {
-    let db = builtin_database().unwrap();
+    let db = builtin::database().unwrap();
     for (i, cands) in db.candidates.iter().enumerate() {
         let kinds: Vec<_> = cands.iter().map(|c| db.kinds[c.interval]).collect();
         assert!(kinds.iter().any(|k| k.stops || k.in_place), "interval {i} cannot stop");

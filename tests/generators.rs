@@ -376,7 +376,7 @@ fn live_view_and_experiments_take_the_kinds() {
         let s = loaded.result.unwrap();
         assert!(s.name.starts_with(&format!("random-{}-", k.name())));
     }
-    assert!(MapSpec::parse(Some("random:castle")).unwrap_err().contains("castle"));
+    assert!(MapSpec::parse(Some("random:castle")).unwrap_err().to_string().contains("castle"));
 
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
     let script = dir.join("generators_experiment.rhai");
@@ -392,7 +392,9 @@ print(`episodes ${s.episodes}`);
     .unwrap();
     let o = strider(&["experiment", &script.to_string_lossy()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let out = String::from_utf8_lossy(&o.stdout);
+    // `print` goes to the log, stderr; stdout stays empty.
+    assert!(o.stdout.is_empty());
+    let out = String::from_utf8_lossy(&o.stderr);
     assert!(out.contains("name random-rooms-3 tasks 1"), "{out}");
     assert!(out.contains("episodes 2"), "{out}");
 }

@@ -185,7 +185,7 @@ fn u_trap_episode_final_frame() {
 fn animated_character_footprints_and_poses() {
     use std::sync::Arc;
     use strider::anim::policy::Policy;
-    use strider::cli::anim::{DEFAULT_POLICY, builtin_database};
+    use strider::builtin::{self, DEFAULT_POLICY};
     use strider::render::png::PngPainter;
     use strider::render::poses::draw_strip;
     use strider::render::sim_view::{scene_of, strip_pose_of};
@@ -198,7 +198,7 @@ fn animated_character_footprints_and_poses() {
     let engines =
         fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
     let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
-    let db = builtin_database().unwrap();
+    let db = builtin::database().unwrap();
     let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
     let animation = AnimationHandle(Arc::new(Animation::new(db, policy)));
     let params = StepParameters { animation: Some(animation), ..StepParameters::default() };

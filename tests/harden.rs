@@ -174,8 +174,10 @@ fn wrong_kinds_of_files_and_flags_get_clear_messages() {
     )
     .unwrap();
     let o = strider(&["experiment", s(&batch)]);
-    refused(&o, &["batch.rhai:3:", "budget", "log line"]);
-    assert_eq!(stdout(&o), "before\n");
+    refused(&o, &["batch.rhai:3:", "budget", "log line", "batch.rhai: before"]);
+    // The log comes before the error and nothing goes to stdout.
+    assert!(stderr(&o).find("before") < stderr(&o).find("budget"), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "");
 }
 
 #[test]

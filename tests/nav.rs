@@ -48,8 +48,8 @@ fn shipped_maps_are_solved_without_collisions() {
 
 /// Both bodies: the disc and the animated character the papers are about.
 fn bodies() -> [(&'static str, StepParameters); 2] {
-    let db = strider::cli::anim::builtin_database().unwrap();
-    let policy = strider::anim::policy::Policy::from_bytes(strider::cli::anim::DEFAULT_POLICY, &db).unwrap();
+    let db = strider::builtin::database().unwrap();
+    let policy = strider::anim::policy::Policy::from_bytes(strider::builtin::DEFAULT_POLICY, &db).unwrap();
     let anim = strider::sim::animated::Animation::new(db, policy);
     let animated = StepParameters {
         animation: Some(strider::sim::animated::AnimationHandle(std::sync::Arc::new(anim))),
@@ -216,7 +216,8 @@ fn bad_maps_and_rules_are_located_errors() {
 fn experiment_scripts_compare_rule_sets() {
     let o = strider(&["experiment", "scripts/compare_rules.rhai"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.stdout.is_empty(), "print goes to the log, not stdout");
+    let text = String::from_utf8_lossy(&o.stderr);
     assert!(text.contains("default") && text.contains("cautious on u_trap: reached true"), "{text}");
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("experiments");
     std::fs::create_dir_all(&dir).unwrap();

@@ -11,7 +11,7 @@ use strider::sim::Body;
 use strider::tui::{App, Config, MapSpec, ui};
 
 fn u_trap() -> App {
-    App::load(Config { map: MapSpec::File("maps/u_trap.rhai".into()), rules: None, seed: 1, animation: None }).unwrap()
+    App::load(Config { map: MapSpec::file("maps/u_trap.rhai"), rules: None, seed: 1, animation: None }).unwrap()
 }
 
 /// Renders `app` on a `w`×`h` screen and returns the screen's text, one string per row.
@@ -131,7 +131,7 @@ fn broken_rule_edit_keeps_the_last_good_rules_and_logs_the_place() {
     let rules: PathBuf = dir.join("nav.rhai");
     std::fs::copy("scripts/nav.rhai", &rules).unwrap();
     let mut app = App::load(Config {
-        map: MapSpec::File("maps/u_trap.rhai".into()),
+        map: MapSpec::file("maps/u_trap.rhai"),
         rules: Some(rules.clone()),
         seed: 1,
         animation: None,

@@ -322,28 +322,17 @@ pub struct FeetAt {
     pub points: [[DVec3; 2]; 2],
 }
 
-/// Finds the left and right foot joints by name.
+/// Finds the left and right foot joints: by the two `names` given, else by joint names (namespace
+/// prefixes, case and separators ignored), else by the shape of the hierarchy
+/// ([`rig::locate_feet`](super::rig::locate_feet)).
 pub fn find_feet(skeleton: &Skeleton, names: &[String]) -> Result<[usize; 2], DbError> {
-    if names.len() == 2 {
-        return match (skeleton.find(&names[0]), skeleton.find(&names[1])) {
-            (Some(l), Some(r)) => Ok([l, r]),
-            _ => Err(DbError::NoFeet(names.join(", "))),
-        };
+    match super::rig::locate_feet(skeleton, names) {
+        Some((feet, _)) => Ok(feet),
+        None if names.len() == 2 => Err(DbError::NoFeet(names.join(", "))),
+        None => Err(DbError::NoFeet(
+            "LeftFoot/RightFoot, LeftAnkle/RightAnkle and their variants, then the shape of the hierarchy".into(),
+        )),
     }
-    const PAIRS: [(&str, &str); 5] = [
-        ("LeftFoot", "RightFoot"),
-        ("LeftAnkle", "RightAnkle"),
-        ("l_foot", "r_foot"),
-        ("lfoot", "rfoot"),
-        ("L_Foot", "R_Foot"),
-    ];
-    for (l, r) in PAIRS {
-        let find = |n: &str| skeleton.joints().iter().position(|j| j.name.eq_ignore_ascii_case(n));
-        if let (Some(l), Some(r)) = (find(l), find(r)) {
-            return Ok([l, r]);
-        }
-    }
-    Err(DbError::NoFeet(PAIRS.iter().map(|(l, r)| format!("{l}/{r}")).collect::<Vec<_>>().join(", ")))
 }
 
 /// Heading of the root's forward axis in the bind pose: perpendicular to the line from the

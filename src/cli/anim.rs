@@ -17,8 +17,10 @@ use serde::{Deserialize, Serialize};
 use super::files::{self, outln, write_atomic};
 use super::{Failure, Outcome};
 use crate::anim::bvh::{self, BvhOptions};
+use crate::anim::db::DbError;
 use crate::anim::player::{PlayerParams, TransitionKind};
 use crate::anim::policy::{LearnParams, Policy, StateGrid, Strategy};
+use crate::anim::rig;
 use crate::anim::{Clip, Database, DbParams, IntervalSpec, Skeleton};
 use crate::diagnostic::SourceError;
 use crate::sim::{Animation, AnimationHandle};
@@ -63,12 +65,17 @@ pub struct BuildArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     pub out: PathBuf,
-    /// Length unit of the files in metres (CMU files: 0.056444).
-    #[arg(long, default_value_t = 1.0)]
-    pub scale: f64,
-    /// Neighbours per interval.
-    #[arg(long, default_value_t = 6)]
-    pub k: usize,
+    /// Length unit of the files in metres (CMU files: 0.056444). Without it the unit is read
+    /// from the skeleton's leg length (metres, CMU units, inches, centimetres or millimetres).
+    #[arg(long)]
+    pub scale: Option<f64>,
+    /// The two foot joints, left first (`--feet LeftFoot,RightFoot`). Without it they are found
+    /// by name (namespace prefixes such as `mixamorig:` ignored), else by the hierarchy's shape.
+    #[arg(long, value_delimiter = ',')]
+    pub feet: Option<Vec<String>>,
+    /// Neighbours per interval (default 6, fewer when the files give too few intervals).
+    #[arg(long)]
+    pub k: Option<usize>,
     /// Hand-written intervals instead of detected ones: lines `CLIP START END` (frames).
     #[arg(long)]
     pub intervals: Option<PathBuf>,
@@ -154,27 +161,87 @@ pub struct Manifest {
     pub clips: Vec<String>,
     /// Intervals: clip name, first frame, last frame.
     pub intervals: Vec<(String, usize, usize)>,
+    /// The foot joints (left, right) when given by hand; empty when found from the skeleton.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub feet: Vec<String>,
 }
 
 const MANIFEST: &str = "database.json";
 const FORMAT: &str = "strider-animation-db";
 
-/// The built-in database: the 22-DOF actor's generated clips, intervals detected.
+/// The built-in database ([`crate::builtin::database`]), its errors as the command line's.
 pub fn builtin_database() -> Result<Database, Failure> {
-    crate::anim::procedural::default_database().map_err(|e| anyhow!("built-in animation database: {e}").into())
+    crate::builtin::database().map_err(|e| anyhow!("built-in animation database: {e}").into())
 }
 
-/// The policy shipped for the built-in database.
-pub const DEFAULT_POLICY: &[u8] = include_bytes!("../../assets/default.policy");
-
 fn read_bvh(path: &Path, scale: f64) -> Result<(Skeleton, Clip), Failure> {
-    let text = files::read_text(path)?;
+    parse_bvh(path, &files::read_text(path)?, scale)
+}
+
+fn parse_bvh(path: &Path, text: &str, scale: f64) -> Result<(Skeleton, Clip), Failure> {
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "clip".into());
-    let b = bvh::parse(&text, &path.display().to_string(), &name, &BvhOptions { scale })?;
+    let b = bvh::parse(text, &path.display().to_string(), &name, &BvhOptions { scale })?;
     for w in &b.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
     Ok((b.skeleton, b.clip))
+}
+
+/// The import scale of `db build`: `--scale` when given, else the unit the first file's leg
+/// length points to, said on stderr with the feet it was measured to.
+fn build_scale(a: &BuildArgs, first: &Path, text: &str) -> Result<f64, Failure> {
+    let names = a.feet.clone().unwrap_or_default();
+    let file = first.display().to_string();
+    let skeleton = bvh::parse(text, &file, "clip", &BvhOptions::default())?.skeleton;
+    let Some((feet, from)) = rig::locate_feet(&skeleton, &names) else {
+        return Err(anyhow!(
+            "{file}: cannot find the foot joints (tried {}); name them with --feet LEFT,RIGHT",
+            if names.is_empty() {
+                "joint names such as LeftFoot or mixamorig:LeftFoot, then the shape of the hierarchy".to_string()
+            } else {
+                names.join(", ")
+            }
+        )
+        .into());
+    };
+    let joint = |i: usize| skeleton.joints()[i].name.as_str();
+    let how = match from {
+        rig::FeetFrom::Given => "as given",
+        rig::FeetFrom::Name => "found by name",
+        rig::FeetFrom::Topology => "found from the shape of the hierarchy",
+    };
+    eprintln!("{file}: feet {} / {} ({how})", joint(feet[0]), joint(feet[1]));
+    if let Some(s) = a.scale {
+        eprintln!("{file}: lengths × {s} (--scale)");
+        return Ok(s);
+    }
+    let Some(g) = rig::guess_unit(&skeleton, feet) else {
+        eprintln!("{file}: warning: the legs have no length; taking metres (give --scale to choose)");
+        return Ok(1.0);
+    };
+    if g.human {
+        eprintln!(
+            "{file}: lengths in {} (scale {}), read from the leg: {:.4} file units from {} to {}, {:.2} m in that unit; --scale overrides",
+            g.unit.name,
+            g.unit.metres,
+            g.leg_length,
+            joint(0),
+            joint(feet[0]),
+            g.leg_length_m()
+        );
+    } else {
+        eprintln!(
+            "{file}: warning: no usual unit makes the leg ({:.4} file units from {} to {}) {:.2}–{:.2} m long; taking the nearest, {} (scale {}); give --scale to choose",
+            g.leg_length,
+            joint(0),
+            joint(feet[0]),
+            rig::LEG_LENGTH_M / rig::LEG_TOLERANCE,
+            rig::LEG_LENGTH_M * rig::LEG_TOLERANCE,
+            g.unit.name,
+            g.unit.metres
+        );
+    }
+    Ok(g.unit.metres)
 }
 
 fn same_skeleton(a: &Skeleton, b: &Skeleton) -> bool {
@@ -210,12 +277,19 @@ pub fn load_database(dir: &Path) -> Result<Database, Failure> {
     let skeleton = skeleton.ok_or_else(|| anyhow!("{}: no clips", path.display()))?;
     let specs: Vec<IntervalSpec> =
         m.intervals.iter().map(|(c, s, e)| IntervalSpec { clip: c.clone(), start: *s, end: *e }).collect();
-    let params = DbParams { k: m.k, samples: m.samples, ..DbParams::default() };
+    let mut params = DbParams { k: m.k, samples: m.samples, ..DbParams::default() };
+    params.contacts.feet = m.feet.clone();
     Database::build(clips, skeleton, params, Some(&specs)).map_err(|e| anyhow!("{}: {e}", path.display()).into())
 }
 
 /// Writes `db` as a database directory.
 pub fn save_database(db: &Database, dir: &Path) -> Result<(), Failure> {
+    save_database_with_feet(db, dir, &[])
+}
+
+/// Writes `db` as a database directory whose manifest names the foot joints `feet` (when they
+/// were given by hand, so reloading finds the same ones).
+pub fn save_database_with_feet(db: &Database, dir: &Path, feet: &[String]) -> Result<(), Failure> {
     let clips_dir = dir.join("clips");
     std::fs::create_dir_all(&clips_dir).with_context(|| format!("cannot create {}", clips_dir.display()))?;
     let mut files = Vec::new();
@@ -233,6 +307,7 @@ pub fn save_database(db: &Database, dir: &Path) -> Result<(), Failure> {
         samples: db.params.samples,
         clips: files,
         intervals: db.intervals.iter().map(|i| (db.clips[i.clip].name.clone(), i.start, i.end)).collect(),
+        feet: feet.to_vec(),
     };
     let json = serde_json::to_string_pretty(&m).map_err(|e| anyhow!("{e}"))?;
     let path = dir.join(MANIFEST);
@@ -276,16 +351,37 @@ pub fn parse_intervals(text: &str, file: &str) -> Result<Vec<IntervalSpec>, Sour
 pub fn db(command: DbCommand) -> Outcome {
     match command {
         DbCommand::Build(a) => {
-            if !(a.scale > 0.0) || !a.scale.is_finite() {
+            if let Some(s) = a.scale
+                && !(s > 0.0 && s.is_finite())
+            {
                 return Err(anyhow!("--scale must be a positive number").into());
             }
-            if !(1..=crate::anim::db::MAX_K).contains(&a.k) {
-                return Err(anyhow!("--k must be in 1..={}, found {}", crate::anim::db::MAX_K, a.k).into());
+            if let Some(k) = a.k
+                && !(1..=crate::anim::db::MAX_K).contains(&k)
+            {
+                return Err(anyhow!("--k must be in 1..={}, found {k}", crate::anim::db::MAX_K).into());
             }
+            if let Some(f) = &a.feet
+                && f.len() != 2
+            {
+                return Err(anyhow!("--feet takes two joint names, LEFT,RIGHT; found {}", f.len()).into());
+            }
+            let mut texts = Vec::with_capacity(a.bvh.len());
+            for p in &a.bvh {
+                texts.push(files::read_text(p)?);
+            }
+            let manual = match &a.intervals {
+                Some(p) => {
+                    let text = files::read_text(p)?;
+                    Some(parse_intervals(&text, &p.display().to_string())?)
+                }
+                None => None,
+            };
+            let scale = build_scale(&a, &a.bvh[0], &texts[0])?;
             let mut skeleton: Option<Skeleton> = None;
             let mut clips: Vec<Clip> = Vec::new();
-            for p in &a.bvh {
-                let (s, c) = read_bvh(p, a.scale)?;
+            for (p, text) in a.bvh.iter().zip(&texts) {
+                let (s, c) = parse_bvh(p, text, scale)?;
                 match &skeleton {
                     Some(k) if !same_skeleton(k, &s) => {
                         return Err(anyhow!("{}: its skeleton differs from the first file's", p.display()).into());
@@ -298,19 +394,24 @@ pub fn db(command: DbCommand) -> Outcome {
                 }
                 clips.push(c);
             }
-            let manual = match &a.intervals {
-                Some(p) => {
-                    let text = files::read_text(p)?;
-                    Some(parse_intervals(&text, &p.display().to_string())?)
-                }
-                None => None,
-            };
             let skeleton = skeleton.ok_or_else(|| anyhow!("no BVH files"))?;
-            let params = DbParams { k: a.k, ..DbParams::default() };
-            let db = Database::build(clips, skeleton, params, manual.as_deref()).map_err(|e| anyhow!("{e}"))?;
-            files::replace_dir(&a.out, |dir| save_database(&db, dir))?;
+            let feet = a.feet.clone().unwrap_or_default();
+            let mut params = DbParams { k: a.k.unwrap_or(DbParams::default().k), ..DbParams::default() };
+            params.contacts.feet = feet.clone();
+            let built = Database::build(clips.clone(), skeleton.clone(), params.clone(), manual.as_deref());
+            let db = match built {
+                // Without --k, a small capture still makes a database: K shrinks to fit.
+                Err(DbError::TooFewIntervals(n, _)) if a.k.is_none() && n >= 2 => {
+                    eprintln!("{n} intervals: K = {} (give more clips for the usual K = {})", n - 1, params.k);
+                    params.k = n - 1;
+                    Database::build(clips, skeleton, params, manual.as_deref())
+                }
+                other => other,
+            }
+            .map_err(|e| anyhow!("{e}"))?;
+            files::replace_dir(&a.out, |dir| save_database_with_feet(&db, dir, &feet))?;
             outln!(
-                "{} intervals from {} clips, K = {}, written to {}",
+                "{} intervals from {} clips, K = {}, lengths × {scale}, written to {}",
                 db.intervals.len(),
                 db.clips.len(),
                 db.params.k,
@@ -540,7 +641,9 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
             let bytes = files::read_bytes(p)?;
             Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
         }
-        (None, None) => Policy::from_bytes(DEFAULT_POLICY, &db).map_err(|e| anyhow!("assets/default.policy: {e}"))?,
+        (None, None) => {
+            crate::builtin::policy(&db).map_err(|e| anyhow!("{}: {e}", crate::builtin::DEFAULT_POLICY_FILE))?
+        }
         (None, Some(d)) => {
             return Err(anyhow!(
                 "{}: give its policy with --policy FILE (train one with `strider train --db {} --out FILE`)",

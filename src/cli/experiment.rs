@@ -18,8 +18,9 @@
 //! `frames`, `changed`, `divergence_s` (`()` when the trajectories agree) and `report`. A
 //! script whose snapshots did not all match exits with code 1.
 //! The functions here do file IO and run simulations, so they live with the front-ends and
-//! are registered on top of the one hardened script engine. `print` goes to stdout (it is the
-//! script's data), `debug` to stderr, also when the script fails. A script runs at most
+//! are registered on top of the one hardened script engine. `print` and `debug` go to the log,
+//! stderr, as the script runs (so the log is kept when the script fails), never to stdout;
+//! each line is prefixed with the script's file (and `debug`'s with its line). A script runs at most
 //! [`MAX_SCRIPT_EPISODES`] episodes in all.
 
 use std::cell::RefCell;
@@ -32,10 +33,9 @@ use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use super::anim::{BodyArgs, BodyKind, load_animation};
-use super::run::{MapSource, job, load_map};
+use super::load::{self, MapSource, MapSpec, job};
 use super::{Failure, Outcome};
-use crate::builtin::{DEFAULT_RULES, DEFAULT_RULES_FILE};
-use crate::experiment::{self, EpisodeRecord, Summary};
+use crate::experiment::{self, EpisodeRecord, Field, Summary};
 use crate::fuzzy::Engine;
 use crate::maps::kind::{self, WorldKind};
 use crate::scenario::Scenario;
@@ -85,18 +85,22 @@ fn opt(x: Option<f64>) -> Dynamic {
     x.map_or(Dynamic::UNIT, Dynamic::from_float)
 }
 
+/// An episode record as a script map: every field of [`EpisodeRecord::fields`], `()` where
+/// there is no value.
 fn record_map(r: &EpisodeRecord) -> Map {
-    let mut m = Map::new();
-    m.insert("reached".into(), Dynamic::from_bool(r.reached));
-    m.insert("collisions".into(), Dynamic::from_int(i64::from(r.collisions)));
-    m.insert("time_s".into(), Dynamic::from_float(r.time_s));
-    m.insert("path_length_m".into(), Dynamic::from_float(r.path_length_m));
-    m.insert("optimal_length_m".into(), opt(r.optimal_length_m));
-    m.insert("path_ratio".into(), opt(r.path_ratio));
-    m.insert("min_clearance_m".into(), Dynamic::from_float(r.min_clearance_m));
-    m.insert("stalls".into(), Dynamic::from_int(i64::from(r.stalls)));
-    m.insert("boundary_follows".into(), Dynamic::from_int(i64::from(r.boundary_follows)));
-    m
+    r.fields()
+        .iter()
+        .map(|(name, f)| {
+            let v = match *f {
+                Field::Count(n) => Dynamic::from_int(i64::try_from(n).unwrap_or(i64::MAX)),
+                Field::Number(x) => Dynamic::from_float(x),
+                Field::Flag(b) => Dynamic::from_bool(b),
+                Field::Text(t) => Dynamic::from(t.to_string()),
+                Field::Missing => Dynamic::UNIT,
+            };
+            ((*name).into(), v)
+        })
+        .collect()
 }
 
 fn summary_map(s: &Summary) -> Map {
@@ -168,11 +172,13 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
     engine.register_type_with_name::<ScenarioHandle>("Scenario");
     let dir = base.to_path_buf();
     engine.register_fn("load_map", move |path: &str| -> Res<ScenarioHandle> {
-        let full = dir.join(path);
-        match load_map(&full.to_string_lossy(), None) {
+        if path.starts_with("random:") {
+            return Err(format!("'{path}' is a generator; use random_world").into());
+        }
+        match load::load_map(&MapSpec::file(dir.join(path))).logged() {
             Ok(MapSource::Scenario(s)) => Ok(ScenarioHandle(s)),
             Ok(MapSource::Random(_)) => Err(format!("'{path}' is a generator; use random_world").into()),
-            Err(e) => Err(failure_text(e)),
+            Err(e) => Err(e.to_string().into()),
         }
     });
     engine.register_fn("random_world", |name: &str, seed: i64| -> Res<ScenarioHandle> {
@@ -182,16 +188,13 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
     engine.register_fn("name", |s: &mut ScenarioHandle| s.0.name.clone());
     engine.register_fn("tasks", |s: &mut ScenarioHandle| s.0.tasks.len() as i64);
     engine.register_fn("default_rules", || -> Res<Array> {
-        let log = ScriptLog::new();
-        let list = fuzzy_api::load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &log)
-            .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        let list = load::load_engines(None).logged().map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });
     let dir = base.to_path_buf();
     engine.register_fn("load_rules", move |path: &str| -> Res<Array> {
-        let full = dir.join(path);
-        let text = super::files::read_text(&full).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
-        let list = fuzzy_api::load_engines(&text, &full.to_string_lossy(), Limits::default(), &ScriptLog::new())
+        let list = load::load_engines(Some(&dir.join(path)))
+            .logged()
             .map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         Ok(rules_array(list))
     });
@@ -319,12 +322,11 @@ pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFail
     let resolve = {
         let base = base.to_path_buf();
         move |path: &str| -> Res<MapSource> {
-            let full = if path.starts_with("random:") {
-                path.to_string()
-            } else {
-                base.join(path).to_string_lossy().into_owned()
+            let spec = match MapSpec::parse(Some(path)).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })? {
+                MapSpec::File { path, scen } => MapSpec::File { path: base.join(path), scen },
+                other => other,
             };
-            load_map(&full, None).map_err(failure_text)
+            load::load_map(&spec).logged().map_err(|e| e.to_string().into())
         }
     };
     let (f, b) = (failures.clone(), base.to_path_buf());
@@ -353,11 +355,14 @@ pub fn run(args: ExperimentArgs) -> Outcome {
     let log = ScriptLog::new();
     // Experiments may run many episodes; each native call counts as few operations.
     let mut engine = hardened_engine(Limits::default(), &log);
-    // `print` is the script's data (stdout); a closed pipe stops the script quietly.
-    engine.on_print(|s| {
-        if super::files::outln!("{s}").is_err() {
-            std::process::exit(0);
-        }
+    // `print` and `debug` are the experiment's log: stderr, line by line as the script runs,
+    // so nothing is lost when it fails later; stdout stays free for data.
+    let f = file.clone();
+    engine.on_print(move |s| eprintln!("{f}: {s}"));
+    let f = file.clone();
+    engine.on_debug(move |s, _, pos| match pos.line() {
+        Some(l) => eprintln!("{f}:{l}: {s}"),
+        None => eprintln!("{f}: {s}"),
     });
     let budget = EpisodeBudget::default();
     register(&mut engine, Path::new("."), &budget);
@@ -368,7 +373,8 @@ pub fn run(args: ExperimentArgs) -> Outcome {
         anyhow!("{file}:{}:{}: {}", pos.line().unwrap_or(0), pos.position().unwrap_or(0), e.0)
     })?;
     let result = engine.run_ast(&ast).map_err(|e| script_error(&file, &e));
-    // The log is kept whether the script succeeded or not.
+    // Anything a registered function logged (map and rule scripts' output comes through the
+    // loaders), kept whether the script succeeded or not.
     for line in log.lines() {
         eprintln!("{file}: {line}");
     }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{Context, anyhow};
 use clap::Args;
 
-use super::run::{MapArgs, job, load_controller, load_map};
+use super::run::{MapArgs, job, load_controller, load_map_args};
 use super::{Outcome, parse_size, write_atomic};
 use crate::render::png::{PngPainter, encode, render_png};
 use crate::render::poses::draw_strip;
@@ -52,7 +52,7 @@ pub fn render(args: RenderArgs) -> Outcome {
             anyhow!("--poses draws the animated character's skeleton; it cannot be used with --body disc").into()
         );
     }
-    let source = load_map(&args.map.map, args.map.scen.as_deref())?;
+    let source = load_map_args(&args.map)?;
     let controller = load_controller(args.map.rules.as_deref())?;
     let job = job(&source, args.episode, args.map.seed);
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;

@@ -3,30 +3,18 @@
 
 use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 
 use super::files;
+pub use super::load::{MapSource, MapSpec, episode_count, job};
+use super::load::{load_map, load_rules};
 use super::{Failure, Outcome};
-use crate::experiment::{self, EpisodeRecord, Job};
+use crate::experiment::{self, EpisodeRecord, Field};
 use crate::maps::kind::{self, WorldKind};
-use crate::maps::{movingai, text};
-use crate::scenario::Scenario;
-use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
-use crate::sim::{ControllerParams, LayeredController, StepParameters};
-
-pub use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_RULES_FILE};
-
-/// Where the scenarios of a run come from.
-#[derive(Debug, Clone)]
-pub enum MapSource {
-    /// One scenario (its tasks are the episodes).
-    Scenario(Arc<Scenario>),
-    /// Seeded random worlds of a kind, one per episode.
-    Random(WorldKind),
-}
+use crate::maps::text;
+use crate::sim::{LayeredController, StepParameters};
 
 /// Options shared by `run` and `render`.
 #[derive(Debug, Args)]
@@ -74,92 +62,21 @@ pub enum DataFormat {
     Csv,
 }
 
-fn read(path: &Path) -> Result<String, Failure> {
-    Ok(files::read_text(path)?)
-}
-
 /// Most episodes one run may ask for (the records of a run are kept for its summary).
 pub const MAX_EPISODES: usize = 1_000_000;
 
 /// Most worker threads a run may ask for.
 pub const MAX_THREADS: usize = 256;
 
-/// Loads a map argument.
-pub fn load_map(map: &str, scen: Option<&Path>) -> Result<MapSource, Failure> {
-    if let Some(name) = map.strip_prefix("random:") {
-        let k: WorldKind = name.parse().map_err(|e| anyhow!("{e}"))?;
-        return Ok(MapSource::Random(k));
-    }
-    let path = Path::new(map);
-    let file = path.display().to_string();
-    let scenario = match path.extension().and_then(|e| e.to_str()) {
-        Some("rhai") => {
-            let log = ScriptLog::new();
-            let s = map_api::load_scenario(&read(path)?, &file, Limits::default(), &log);
-            for line in log.lines() {
-                eprintln!("{file}: {line}");
-            }
-            s?
-        }
-        Some("txt") | Some("world") => text::parse(&read(path)?, &file)?,
-        Some("map") => {
-            let scen_path = match scen {
-                Some(p) => p.to_path_buf(),
-                None => PathBuf::from(format!("{map}.scen")),
-            };
-            if !scen_path.exists() {
-                return Err(match scen {
-                    Some(p) => anyhow!("{}: the scenario file given with --scen does not exist", p.display()),
-                    None => anyhow!(
-                        "{file}: a MovingAI map needs its scenario file ({} does not exist): give --scen FILE",
-                        scen_path.display()
-                    ),
-                }
-                .into());
-            }
-            let scen_file = scen_path.display().to_string();
-            movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)?
-        }
-        _ => {
-            return Err(anyhow!("{file}: expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND").into());
-        }
-    };
-    Ok(MapSource::Scenario(Arc::new(scenario)))
+/// The world of `args`, script output to stderr.
+pub fn load_map_args(args: &MapArgs) -> Result<MapSource, Failure> {
+    let spec = MapSpec::parse(Some(&args.map))?.with_scen(args.scen.clone());
+    Ok(load_map(&spec).logged()?)
 }
 
-/// Loads the navigation rules (built-in when `rules` is `None`).
+/// The navigation rules of `args` (built-in without `--rules`), script output to stderr.
 pub fn load_controller(rules: Option<&Path>) -> Result<LayeredController, Failure> {
-    let (source, file) = match rules {
-        Some(p) => (read(p)?, p.display().to_string()),
-        None => (DEFAULT_RULES.to_string(), DEFAULT_RULES_FILE.to_string()),
-    };
-    let log = ScriptLog::new();
-    let engines = fuzzy_api::load_engines(&source, &file, Limits::default(), &log);
-    for line in log.lines() {
-        eprintln!("{file}: {line}");
-    }
-    LayeredController::new(&engines?, ControllerParams::default()).map_err(|m| anyhow!("{file}: {m}").into())
-}
-
-pub use crate::experiment::world_seed;
-
-/// How many episodes a run of `source` has: `episodes`, or one per task (one for random
-/// worlds).
-pub fn episode_count(source: &MapSource, episodes: Option<usize>) -> usize {
-    match source {
-        MapSource::Scenario(s) => episodes.unwrap_or(s.tasks.len()),
-        MapSource::Random(_) => episodes.unwrap_or(1),
-    }
-}
-
-/// Episode `i` of a run of `source` seeded with `seed`; a random world is generated here, so
-/// a run makes each world when its episode starts, not all of them before the first.
-pub fn job(source: &MapSource, i: usize, seed: u64) -> Job {
-    let ws = world_seed(seed, i);
-    match source {
-        MapSource::Scenario(s) => Job { scenario: s.clone(), task: i % s.tasks.len(), seed: ws },
-        MapSource::Random(k) => Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws },
-    }
+    Ok(load_rules(rules).logged()?)
 }
 
 /// Checks an episode count against [`MAX_EPISODES`].
@@ -180,7 +97,7 @@ pub fn run(args: RunArgs) -> Outcome {
     {
         return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
     }
-    let source = load_map(&args.map.map, args.map.scen.as_deref())?;
+    let source = load_map_args(&args.map)?;
     let controller = load_controller(args.map.rules.as_deref())?;
     let count = episode_count(&source, args.episodes);
     check_episodes(count)?;
@@ -212,15 +129,7 @@ pub fn run(args: RunArgs) -> Outcome {
     }
     let summary = experiment::summarize(&records);
     let mut out = BufWriter::new(io::stdout().lock());
-    match args.format {
-        DataFormat::Json => {
-            let doc = serde_json::json!({ "summary": summary, "episodes": records });
-            // The io error keeps its kind, so a closed pipe is seen as one.
-            serde_json::to_writer_pretty(&mut out, &doc).map_err(io::Error::from)?;
-            writeln!(out)?;
-        }
-        DataFormat::Csv => write_csv(&mut out, &records)?,
-    }
+    write_records(&mut out, args.format, &summary, &records)?;
     out.flush()?;
     let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
     if failed > 0 {
@@ -229,40 +138,44 @@ pub fn run(args: RunArgs) -> Outcome {
     Ok(())
 }
 
-fn opt(x: Option<f64>) -> String {
-    x.map_or_else(String::new, |v| format!("{v}"))
+/// Writes a run's episode records and summary in `format`: JSON `{"summary": …, "episodes":
+/// […]}`, or CSV with one header line and one line per episode. Both list the fields of
+/// [`EpisodeRecord::fields`] (CSV leaves the cells of missing values empty). The io error keeps
+/// its kind, so a closed pipe is seen as one.
+pub fn write_records(
+    out: &mut impl Write,
+    format: DataFormat,
+    summary: &experiment::Summary,
+    records: &[EpisodeRecord],
+) -> io::Result<()> {
+    match format {
+        DataFormat::Json => {
+            let doc = serde_json::json!({ "summary": summary, "episodes": records });
+            serde_json::to_writer_pretty(&mut *out, &doc).map_err(io::Error::from)?;
+            writeln!(out)
+        }
+        DataFormat::Csv => {
+            let Some(first) = records.first() else { return Ok(()) };
+            let header: Vec<&str> = first.fields().iter().map(|(name, _)| *name).collect();
+            writeln!(out, "{}", header.join(","))?;
+            for r in records {
+                let cells: Vec<String> = r.fields().iter().map(|(_, f)| csv_cell(f)).collect();
+                writeln!(out, "{}", cells.join(","))?;
+            }
+            Ok(())
+        }
+    }
 }
 
-fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> {
-    writeln!(
-        out,
-        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m,barn_score,barn_score_walking"
-    )?;
-    for r in records {
-        writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.episode,
-            r.scenario,
-            r.task,
-            r.seed,
-            r.reached,
-            r.collisions,
-            r.time_s,
-            r.path_length_m,
-            opt(r.optimal_length_m),
-            opt(r.path_ratio),
-            r.min_clearance_m,
-            r.stalls,
-            r.boundary_follows,
-            opt(r.foot_skating_cm_per_frame),
-            opt(r.transition_cost),
-            opt(r.tracking_rms_m),
-            opt(r.barn_score),
-            opt(r.barn_score_walking)
-        )?;
+fn csv_cell(f: &Field) -> String {
+    match f {
+        Field::Count(v) => v.to_string(),
+        Field::Number(v) => v.to_string(),
+        Field::Flag(v) => v.to_string(),
+        Field::Text(t) if t.contains([',', '"', '\n', '\r']) => format!("\"{}\"", t.replace('"', "\"\"")),
+        Field::Text(t) => t.to_string(),
+        Field::Missing => String::new(),
     }
-    Ok(())
 }
 
 /// `strider gen` options.
@@ -287,8 +200,7 @@ pub fn gen_world(args: GenArgs) -> Outcome {
 /// `strider` with no command: runs the default navigation rules on the built-in
 /// semi-cluttered map and prints the episode's measurements.
 pub fn default_scenario() -> Outcome {
-    let log = ScriptLog::new();
-    let scenario = map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log)?;
+    let scenario = super::load::load_scenario(&MapSpec::BuiltIn, 0).logged()?;
     let controller = load_controller(None)?;
     let world = scenario.world();
     let mut params = StepParameters {
@@ -325,4 +237,69 @@ pub fn default_scenario() -> Outcome {
     writeln!(out, "Pictures: strider render maps/semi_cluttered.rhai --out frames/ --poses")?;
     out.flush()?;
     if r.reached && r.collisions == 0 { Ok(()) } else { Err(Failure::Task(anyhow!("the default scenario failed"))) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(animated: bool) -> EpisodeRecord {
+        let a = |x: f64| animated.then_some(x);
+        let n = |x: u64| animated.then_some(x);
+        EpisodeRecord {
+            episode: 3,
+            scenario: "a, \"b\"".into(),
+            task: 1,
+            seed: 9,
+            reached: true,
+            collisions: 0,
+            time_s: 12.5,
+            path_length_m: 20.0,
+            optimal_length_m: Some(19.0),
+            path_ratio: None,
+            min_clearance_m: 0.25,
+            steps: 250,
+            stalls: 2,
+            boundary_follows: 1,
+            foot_skating_cm_per_frame: a(0.1),
+            contact_weight: a(0.9),
+            plants: n(40),
+            sliding_plants: n(1),
+            transition_cost: a(0.02),
+            transitions: n(30),
+            peak_switch_jerk_mps3: a(5.0),
+            tracking_rms_m: a(0.05),
+            heading_rms_deg: a(3.0),
+            speed_rms_mps: a(0.1),
+            barn_score: a(0.7),
+            barn_score_walking: a(0.6),
+        }
+    }
+
+    #[test]
+    fn csv_and_json_carry_the_same_fields() {
+        let records = [record(true), record(false)];
+        let summary = experiment::summarize(&records);
+        let mut json = Vec::new();
+        write_records(&mut json, DataFormat::Json, &summary, &records).unwrap();
+        let doc: serde_json::Value = serde_json::from_slice(&json).unwrap();
+        let keys: Vec<String> = doc["episodes"][0].as_object().unwrap().keys().cloned().collect();
+        let mut csv = Vec::new();
+        write_records(&mut csv, DataFormat::Csv, &summary, &records).unwrap();
+        let csv = String::from_utf8(csv).unwrap();
+        let mut lines = csv.lines();
+        let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        assert_eq!(header.len(), 26);
+        header.sort();
+        let mut keys = keys;
+        keys.sort();
+        assert_eq!(header, keys, "the animated record's JSON object and the CSV header differ");
+        // The disc's record leaves the animation figures out of JSON and their cells empty.
+        let disc = doc["episodes"][1].as_object().unwrap();
+        assert!(!disc.contains_key("plants") && disc["path_ratio"].is_null());
+        let rows: Vec<&str> = lines.collect();
+        assert_eq!(rows.len(), 2);
+        assert!(rows[0].starts_with("3,\"a, \"\"b\"\"\",1,9,true,0,12.5,20,19,,0.25,250,2,1,0.1,"), "{}", rows[0]);
+        assert!(rows[1].ends_with(",,,,,,,,,,,,"), "{}", rows[1]);
+    }
 }

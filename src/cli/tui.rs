@@ -26,7 +26,7 @@ pub struct TuiArgs {
 
 /// `strider tui`.
 pub fn run(args: TuiArgs) -> Outcome {
-    let map = MapSpec::parse(args.map.as_deref()).map_err(|e| anyhow::anyhow!(e))?;
+    let map = MapSpec::parse(args.map.as_deref())?;
     let animation = super::anim::load_animation(&args.body)?;
     tui::run(Config { map, rules: args.rules, seed: args.seed, animation })?;
     Ok(())

@@ -191,8 +191,8 @@ impl App {
     pub fn load(config: Config) -> Result<App, String> {
         let rules = source::load_rules(config.rules.as_deref());
         let map = source::load_scenario(&config.map, config.seed);
-        let controller = rules.result?;
-        let scenario = map.result?;
+        let controller = rules.result.map_err(|e| e.to_string())?;
+        let scenario = map.result.map_err(|e| e.to_string())?;
         let mut app = App::new(config, scenario, controller);
         for line in rules.log.into_iter().chain(map.log) {
             app.info(line);
@@ -426,7 +426,7 @@ impl App {
     /// Reloads the map file; on success the run starts again on the new world.
     pub fn reload_map(&mut self) {
         let Some(path) = self.watch_map.as_ref().map(|w| w.path().to_path_buf()) else { return };
-        let spec = MapSpec::File(path.clone());
+        let spec = MapSpec::file(path.clone());
         let loaded = source::load_scenario(&spec, self.config.seed);
         for line in loaded.log {
             self.info(line);

@@ -16,7 +16,8 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
 
 use super::app::{App, LogLevel};
-use crate::render::scene::{Painter, draw_scene, scene_transform};
+use super::canvas::TermCanvas;
+use crate::render::scene::{Painter, ViewTransform, draw_scene, scene_transform};
 use crate::sim::{Body, Mode, Outcome, Side};
 
 /// Narrowest terminal the view is drawn in, cells.
@@ -54,27 +55,33 @@ pub fn areas(area: Rect) -> Option<Areas> {
     Some(Areas { title, world, log, side, footer })
 }
 
-/// Draws the whole screen into `frame`.
+/// Draws the whole screen into `frame` and records in `app` where the world went (for the
+/// mouse), reusing the app's canvas from frame to frame.
 pub fn draw(frame: &mut Frame, app: &mut App) {
     let area = frame.area();
-    render(app, area, frame.buffer_mut());
+    let mut canvas = std::mem::replace(&mut app.canvas, TermCanvas::new(0, 0));
+    let view = render(app, &mut canvas, area, frame.buffer_mut());
+    app.canvas = canvas;
+    app.canvas_view = view;
 }
 
-/// Draws the whole screen of `app` into `buf` over `area`.
-pub fn render(app: &mut App, area: Rect, buf: &mut Buffer) {
+/// Draws the whole screen of `app` into `buf` over `area`, the world through `canvas` (scratch
+/// space, overwritten). Reads the app only; returns where the world was drawn and with which
+/// transform (`None` when the terminal is too small).
+pub fn render(app: &App, canvas: &mut TermCanvas, area: Rect, buf: &mut Buffer) -> Option<(Rect, ViewTransform)> {
     let Some(a) = areas(area) else {
-        app.canvas_view = None;
         too_small(area, buf);
-        return;
+        return None;
     };
     title(app, a.title, buf);
-    world(app, a.world, buf);
+    let view = world(app, canvas, a.world, buf);
     log(app, a.log, buf);
     side(app, a.side, buf);
     footer(app, a.footer, buf);
     if app.show_help {
         help(area, buf);
     }
+    Some(view)
 }
 
 const ACCENT: Color = Color::Cyan;
@@ -129,16 +136,13 @@ fn speed_text(s: f64) -> String {
     if s >= 1.0 { format!("{s:.0}") } else { format!("{s}") }
 }
 
-fn world(app: &mut App, area: Rect, buf: &mut Buffer) {
-    let mut canvas = std::mem::replace(&mut app.canvas, super::canvas::TermCanvas::new(0, 0));
+fn world(app: &App, canvas: &mut TermCanvas, area: Rect, buf: &mut Buffer) -> (Rect, ViewTransform) {
     canvas.reset(area.width, area.height);
     let scene = app.scene();
-    draw_scene(&scene, &mut canvas);
+    draw_scene(&scene, canvas);
     let tf = scene_transform(&scene, canvas.size(), canvas.text_size("M").y);
-    drop(scene);
-    (&canvas).render(area, buf);
-    app.canvas = canvas;
-    app.canvas_view = Some((area, tf));
+    (&*canvas).render(area, buf);
+    (area, tf)
 }
 
 fn log(app: &App, area: Rect, buf: &mut Buffer) {

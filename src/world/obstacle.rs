@@ -69,6 +69,10 @@ impl Obstacle {
             ObstacleShape::Box { center, width, height, yaw } => {
                 vec![Shape::Polygon(ConvexPolygon::from_box(*center, *width, *height, *yaw)?)]
             }
+            // A cylinder of no width is no obstacle (the text format refuses it too).
+            ObstacleShape::Cylinder { radius, .. } if *radius == 0.0 => {
+                return Err(GeomError::InvalidParameter { what: "cylinder radius (positive)", value: *radius });
+            }
             ObstacleShape::Cylinder { center, radius } => vec![Shape::circle(*center, *radius)?],
             ObstacleShape::Convex { points } => vec![Shape::Polygon(ConvexPolygon::hull(points)?)],
             ObstacleShape::Polygon { outline } => decompose(outline)?.into_iter().map(Shape::Polygon).collect(),

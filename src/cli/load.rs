@@ -1,0 +1,239 @@
+//! The one loading layer of the front-ends: `strider run`, `render`, `snapshot`, the live view
+//! and experiment scripts all read maps and rules here. A map argument is parsed once into a
+//! [`MapSpec`]; loaders return the value or a [`SourceError`] naming the file (and line and
+//! column where there is one), together with what the script printed, so each front-end
+//! decides where that output goes (stderr for the command line, the log panel for the live
+//! view).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_RULES_FILE};
+use crate::diagnostic::SourceError;
+use crate::experiment::{Job, world_seed};
+use crate::fuzzy::Engine;
+use crate::maps::kind::{self, WorldKind};
+use crate::maps::{movingai, text};
+use crate::scenario::Scenario;
+use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use crate::sim::{ControllerParams, LayeredController};
+
+/// Which world a command runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MapSpec {
+    /// The built-in default scenario (seed 000 Fig 2 b).
+    BuiltIn,
+    /// A map file: `.rhai`, `.txt`/`.world`, or a MovingAI `.map` with its scenario file
+    /// (`scen`, default `FILE.map.scen`).
+    File {
+        /// The map file.
+        path: PathBuf,
+        /// The MovingAI scenario file given by hand.
+        scen: Option<PathBuf>,
+    },
+    /// Seeded random worlds of a kind (`random:KIND`), one per episode.
+    Random(WorldKind),
+}
+
+impl MapSpec {
+    /// Reads a map argument: `random:KIND` or a path; `None` is the built-in scenario.
+    pub fn parse(arg: Option<&str>) -> Result<MapSpec, SourceError> {
+        match arg {
+            None => Ok(MapSpec::BuiltIn),
+            Some(a) => match a.strip_prefix("random:") {
+                Some(k) => k.parse().map(MapSpec::Random).map_err(|e| SourceError::new(a, 0, 0, format!("{e}"))),
+                None => Ok(MapSpec::file(a)),
+            },
+        }
+    }
+
+    /// A map file with the default scenario file.
+    pub fn file(path: impl Into<PathBuf>) -> MapSpec {
+        MapSpec::File { path: path.into(), scen: None }
+    }
+
+    /// The same map with a MovingAI scenario file given by hand (kept only for map files).
+    pub fn with_scen(self, scen: Option<PathBuf>) -> MapSpec {
+        match self {
+            MapSpec::File { path, .. } => MapSpec::File { path, scen },
+            other => other,
+        }
+    }
+
+    /// The map file, if any (the file to watch for changes).
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            MapSpec::File { path, .. } => Some(path),
+            _ => None,
+        }
+    }
+}
+
+/// Where the scenarios of a run come from.
+#[derive(Debug, Clone)]
+pub enum MapSource {
+    /// One scenario (its tasks are the episodes).
+    Scenario(Arc<Scenario>),
+    /// Seeded random worlds of a kind, one per episode.
+    Random(WorldKind),
+}
+
+/// A loaded value or the error naming the file, with what the script printed (each line
+/// prefixed with the file name).
+#[derive(Debug)]
+pub struct Loaded<T> {
+    /// The value or the located error.
+    pub result: Result<T, SourceError>,
+    /// `print`/`debug` output of the script.
+    pub log: Vec<String>,
+}
+
+impl<T> Loaded<T> {
+    fn of(result: Result<T, SourceError>, file: &str, log: &ScriptLog) -> Loaded<T> {
+        Loaded { result, log: log.lines().into_iter().map(|l| format!("{file}: {l}")).collect() }
+    }
+
+    /// The value, the script's output written to stderr first (the command line's choice).
+    pub fn logged(self) -> Result<T, SourceError> {
+        for line in &self.log {
+            eprintln!("{line}");
+        }
+        self.result
+    }
+}
+
+fn read(path: &Path) -> Result<String, SourceError> {
+    super::files::read_text(path)
+}
+
+/// Loads the world of `spec`.
+pub fn load_map(spec: &MapSpec) -> Loaded<MapSource> {
+    let log = ScriptLog::new();
+    let (path, scen) = match spec {
+        MapSpec::BuiltIn => {
+            let s = map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log);
+            return Loaded::of(s.map(|s| MapSource::Scenario(Arc::new(s))), DEFAULT_MAP_FILE, &log);
+        }
+        MapSpec::Random(k) => return Loaded { result: Ok(MapSource::Random(*k)), log: Vec::new() },
+        MapSpec::File { path, scen } => (path, scen),
+    };
+    let file = path.display().to_string();
+    let scenario = match path.extension().and_then(|e| e.to_str()) {
+        Some("rhai") => read(path).and_then(|src| map_api::load_scenario(&src, &file, Limits::default(), &log)),
+        Some("txt") | Some("world") => read(path).and_then(|src| text::parse(&src, &file)),
+        Some("map") => load_movingai(path, scen.as_deref()),
+        _ => Err(SourceError::new(&file, 0, 0, "expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND")),
+    };
+    Loaded::of(scenario.map(|s| MapSource::Scenario(Arc::new(s))), &file, &log)
+}
+
+fn load_movingai(path: &Path, scen: Option<&Path>) -> Result<Scenario, SourceError> {
+    let file = path.display().to_string();
+    let scen_path = scen.map_or_else(|| PathBuf::from(format!("{file}.scen")), Path::to_path_buf);
+    let scen_file = scen_path.display().to_string();
+    if !scen_path.exists() {
+        return Err(match scen {
+            Some(_) => SourceError::new(&scen_file, 0, 0, "the scenario file given with --scen does not exist"),
+            None => SourceError::new(
+                &file,
+                0,
+                0,
+                format!("a MovingAI map needs its scenario file ({scen_file} does not exist): give --scen FILE"),
+            ),
+        });
+    }
+    movingai::load(&read(path)?, &file, &read(&scen_path)?, &scen_file)
+}
+
+/// The scenario the live view shows for `spec`: a random world is the one `strider run` plays
+/// as its first episode with the run seed `seed`.
+pub fn load_scenario(spec: &MapSpec, seed: u64) -> Loaded<Scenario> {
+    let loaded = load_map(spec);
+    Loaded { result: loaded.result.map(|s| (*job(&s, 0, seed).scenario).clone()), log: loaded.log }
+}
+
+/// Loads the fuzzy engines of a rule script (the built-in rules when `path` is `None`).
+pub fn load_engines(path: Option<&Path>) -> Loaded<Vec<Engine>> {
+    let log = ScriptLog::new();
+    let (source, file) = match path {
+        Some(p) => match read(p) {
+            Ok(s) => (s, p.display().to_string()),
+            Err(e) => return Loaded { result: Err(e), log: Vec::new() },
+        },
+        None => (DEFAULT_RULES.to_string(), DEFAULT_RULES_FILE.to_string()),
+    };
+    let result = fuzzy_api::load_engines(&source, &file, Limits::default(), &log);
+    Loaded::of(result, &file, &log)
+}
+
+/// Loads the navigation rules of a rule script (the built-in rules when `path` is `None`).
+pub fn load_rules(path: Option<&Path>) -> Loaded<LayeredController> {
+    let file = path.map_or_else(|| DEFAULT_RULES_FILE.to_string(), |p| p.display().to_string());
+    let loaded = load_engines(path);
+    let result = loaded.result.and_then(|engines| {
+        LayeredController::new(&engines, ControllerParams::default()).map_err(|m| SourceError::new(&file, 0, 0, m))
+    });
+    Loaded { result, log: loaded.log }
+}
+
+/// How many episodes a run of `source` has: `episodes`, or one per task (one for random
+/// worlds).
+pub fn episode_count(source: &MapSource, episodes: Option<usize>) -> usize {
+    match source {
+        MapSource::Scenario(s) => episodes.unwrap_or(s.tasks.len()),
+        MapSource::Random(_) => episodes.unwrap_or(1),
+    }
+}
+
+/// Episode `i` of a run of `source` seeded with `seed`; a random world is generated here, so
+/// a run makes each world when its episode starts, not all of them before the first.
+pub fn job(source: &MapSource, i: usize, seed: u64) -> Job {
+    let ws = world_seed(seed, i);
+    match source {
+        MapSource::Scenario(s) => Job { scenario: s.clone(), task: i % s.tasks.len(), seed: ws },
+        MapSource::Random(k) => Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_arguments_parse_once_into_a_spec() {
+        assert_eq!(MapSpec::parse(None).unwrap(), MapSpec::BuiltIn);
+        assert_eq!(MapSpec::parse(Some("random:maze")).unwrap(), MapSpec::Random(WorldKind::Maze));
+        assert_eq!(
+            MapSpec::parse(Some("a.map")).unwrap().with_scen(Some("b.scen".into())),
+            MapSpec::File { path: "a.map".into(), scen: Some("b.scen".into()) }
+        );
+        let e = MapSpec::parse(Some("random:castle")).unwrap_err();
+        assert_eq!(e.file, "random:castle");
+    }
+
+    #[test]
+    fn errors_name_the_file_and_script_output_is_returned() {
+        let dir = std::env::temp_dir().join(format!("strider-load-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let map = dir.join("m.rhai");
+        std::fs::write(
+            &map,
+            "print(\"hello\");\nlet m = world(\"w\");\nm.start(0.0, 0.0, 0.0);\nm.goal(5.0, 0.0, 0.5);\nm",
+        )
+        .unwrap();
+        let loaded = load_map(&MapSpec::file(&map));
+        assert!(loaded.result.is_ok());
+        assert_eq!(loaded.log, vec![format!("{}: hello", map.display())]);
+        let bad = dir.join("bad.rhai");
+        std::fs::write(&bad, "let m = world(\"w\");\nm.box(1.0, 1.0);\nm").unwrap();
+        let e = load_map(&MapSpec::file(&bad)).result.unwrap_err();
+        assert_eq!((e.file.as_str(), e.line), (bad.to_str().unwrap(), 2), "{e}");
+        let e = load_map(&MapSpec::file(dir.join("x.map"))).result.unwrap_err();
+        assert!(e.to_string().contains("x.map.scen"), "{e}");
+        let e = load_map(&MapSpec::file(dir.join("x.map")).with_scen(Some(dir.join("y.scen")))).result.unwrap_err();
+        assert!(e.file.ends_with("y.scen"), "{e}");
+        let e = load_rules(Some(&map)).result.unwrap_err();
+        assert!(e.to_string().contains("is this a map given as rules?"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
