@@ -10,8 +10,16 @@
 //! m.convex([[0, 2], [1, 3], [2, 2]]);
 //! m.polygon([[6, -2], [9, -2], [9, 2], [8, 2], [8, -1], [6, -1]]);
 //! m.heights(0.0, 0.8);             // vertical extent of the obstacles added after this
+//! // Terrain (seed 002 §3.2), painted in order over flat ground at height 0:
+//! m.platform_box(12.0, 0.0, 2.0, 2.0, 0.0, 0.3);    // box as above, then its height (m)
+//! m.platform_cylinder(15.0, 0.0, 0.3, 0.1);         // centre x, y, radius, height (m)
+//! m.platform(0.2, [[0, -3], [1, -3], [1, -2]]);     // height, polygon outline
+//! m.hole_box(15.0, 0.0, 2.0, 2.0, 0.0);             // no ground inside (also hole_cylinder, hole)
+//! m.slope(18.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.5);      // box, then z0 at its −x side, z1 at +x
+//! m.stairs(21.0, 0.0, 2.0, 2.0, 0.0, 0.5, 0.0, 3);  // box, z0 before, z1 after, treads
 //! m
 //! ```
+//! Obstacles at most 0.45 m high (see `heights`) are ground to step onto or over.
 //! Each `start` opens a task; the next `goal` closes it. Angles are degrees. The script ends
 //! with the world; the core validates it.
 
@@ -24,7 +32,8 @@ use rhai::{Array, Dynamic, EvalAltResult};
 use crate::diagnostic::SourceError;
 use crate::scenario::Scenario;
 use crate::world::obstacle::DEFAULT_Z;
-use crate::world::{Obstacle, ObstacleShape, Pose, Task};
+use crate::world::terrain::{FeatureKind, TerrainFeature};
+use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain};
 
 type Res<T> = Result<T, Box<EvalAltResult>>;
 
@@ -34,6 +43,7 @@ struct MapState {
     pending_start: Option<Pose>,
     z: Option<(f64, f64)>,
     time_limit_s: Option<f64>,
+    features: Vec<TerrainFeature>,
 }
 
 /// A world under construction in a script.
@@ -74,11 +84,72 @@ impl MapHandle {
         }
         Ok(self.clone())
     }
+
+    fn feature(&self, shape: ObstacleShape, kind: FeatureKind) -> Res<MapHandle> {
+        let f = TerrainFeature::new(shape, kind).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        self.0.borrow_mut().features.push(f);
+        Ok(self.clone())
+    }
+}
+
+fn box_shape(x: &Dynamic, y: &Dynamic, w: &Dynamic, h: &Dynamic, yaw_deg: &Dynamic) -> Res<ObstacleShape> {
+    Ok(ObstacleShape::Box {
+        center: DVec2::new(num(x, "x")?, num(y, "y")?),
+        width: num(w, "width")?,
+        height: num(h, "height")?,
+        yaw: num(yaw_deg, "yaw")?.to_radians(),
+    })
+}
+
+fn cylinder(x: &Dynamic, y: &Dynamic, r: &Dynamic) -> Res<ObstacleShape> {
+    Ok(ObstacleShape::Cylinder { center: DVec2::new(num(x, "x")?, num(y, "y")?), radius: num(r, "radius")? })
+}
+
+/// Registers the terrain functions (see the [module docs](self)).
+fn register_terrain(engine: &mut rhai::Engine) {
+    type D = Dynamic;
+    engine.register_fn("platform", |m: &mut MapHandle, z: D, pts: Array| -> Res<MapHandle> {
+        m.feature(
+            ObstacleShape::Polygon { outline: points(&pts, "platform")? },
+            FeatureKind::Platform { z_m: num(&z, "platform height")? },
+        )
+    });
+    engine.register_fn("platform_box", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Platform { z_m: num(&z, "platform height")? })
+    });
+    engine.register_fn("platform_cylinder", |m: &mut MapHandle, x: D, y: D, r: D, z: D| -> Res<MapHandle> {
+        m.feature(cylinder(&x, &y, &r)?, FeatureKind::Platform { z_m: num(&z, "platform height")? })
+    });
+    engine.register_fn("hole", |m: &mut MapHandle, pts: Array| -> Res<MapHandle> {
+        m.feature(ObstacleShape::Polygon { outline: points(&pts, "hole")? }, FeatureKind::Hole)
+    });
+    engine.register_fn("hole_box", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Hole)
+    });
+    engine.register_fn("hole_cylinder", |m: &mut MapHandle, x: D, y: D, r: D| -> Res<MapHandle> {
+        m.feature(cylinder(&x, &y, &r)?, FeatureKind::Hole)
+    });
+    engine.register_fn("slope", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z0: D, z1: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Slope { z0_m: num(&z0, "z0")?, z1_m: num(&z1, "z1")? })
+    });
+    engine.register_fn(
+        "stairs",
+        |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z0: D, z1: D, treads: rhai::INT| -> Res<MapHandle> {
+            let treads = usize::try_from(treads).map_err(|_| -> Box<EvalAltResult> {
+                format!("stairs need a positive number of treads, found {treads}").into()
+            })?;
+            m.feature(
+                box_shape(&x, &y, &w, &h, &yaw)?,
+                FeatureKind::Stairs { z0_m: num(&z0, "z0")?, z1_m: num(&z1, "z1")?, treads },
+            )
+        },
+    );
 }
 
 /// Registers the world-building API on `engine`.
 pub fn register(engine: &mut rhai::Engine) {
     engine.register_type_with_name::<MapHandle>("World");
+    register_terrain(engine);
     engine.register_fn("world", |name: &str| {
         MapHandle(Rc::new(RefCell::new(MapState { scenario: Some(Scenario::new(name)), ..MapState::default() })))
     });
@@ -171,7 +242,8 @@ pub fn load_scenario(
     if st.pending_start.is_some() {
         return Err(SourceError::new(file, 0, 0, "the last start has no goal"));
     }
-    let scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+    let mut scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+    scenario.terrain = Terrain::from_features(std::mem::take(&mut st.features));
     scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
     Ok(scenario)
 }
