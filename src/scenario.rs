@@ -32,6 +32,8 @@ pub struct Scenario {
     pub reference: Option<Reference>,
     /// The ground: flat, or with platforms, slopes, stairs and holes (seed 002 §3.2).
     pub terrain: Terrain,
+    /// The footstep planner's parameters for the characters of this map (seed 002 §4.2).
+    pub footsteps: crate::footstep::FootstepParams,
 }
 
 /// Speed at which a BARN reference path is walked for the challenge's optimal time, m/s.
@@ -69,6 +71,7 @@ impl Scenario {
             agent_radius: DEFAULT_AGENT_RADIUS,
             reference: None,
             terrain: Terrain::Flat,
+            footsteps: Default::default(),
         }
     }
 
@@ -77,12 +80,13 @@ impl Scenario {
     /// feature or low obstacle; a map with neither is the flat world of its obstacles.
     pub fn world(&self) -> World {
         let terrain = self.terrain.with_low_obstacles(&self.obstacles);
-        if terrain.is_flat() {
-            return World::new(self.obstacles.clone());
-        }
-        let walls = self.obstacles.iter().filter(|o| !Terrain::is_low(o)).cloned().collect();
-        let mut world = World::new(walls);
+        let mut world = if terrain.is_flat() {
+            World::new(self.obstacles.clone())
+        } else {
+            World::new(self.obstacles.iter().filter(|o| !Terrain::is_low(o)).cloned().collect())
+        };
         world.terrain = terrain;
+        world.footsteps = self.footsteps;
         world
     }
 

@@ -105,3 +105,122 @@ fn the_profile_along_a_path_is_the_terrain_under_it() {
         assert!(same || edge, "x = {x}: terrain {here:?}, profile {on:?}");
     }
 }
+
+mod character {
+    use std::sync::Arc;
+
+    use strider::anim::policy::Policy;
+    use strider::cli::anim::{DEFAULT_POLICY, builtin_database};
+    use strider::experiment::run_episode;
+    use strider::scenario::Scenario;
+    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
+
+    fn params() -> StepParameters {
+        let db = builtin_database().unwrap();
+        let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
+        StepParameters {
+            animation: Some(AnimationHandle(Arc::new(Animation::new(db, policy)))),
+            ..StepParameters::default()
+        }
+    }
+
+    fn controller() -> LayeredController {
+        let engines = fuzzy_api::load_engines(
+            include_str!("../scripts/nav.rhai"),
+            "nav.rhai",
+            Limits::default(),
+            &ScriptLog::new(),
+        )
+        .unwrap();
+        LayeredController::new(&engines, ControllerParams::default()).unwrap()
+    }
+
+    fn map(src: &str, name: &str) -> Scenario {
+        map_api::load_scenario(src, name, Limits::default(), &ScriptLog::new()).unwrap()
+    }
+
+    const SCENES: [(&str, &str, f64); 4] = [
+        ("terrain_stairs.rhai", include_str!("../maps/terrain_stairs.rhai"), 8.4),
+        ("terrain_slope.rhai", include_str!("../maps/terrain_slope.rhai"), 11.0),
+        ("terrain_stepping_stones.rhai", include_str!("../maps/terrain_stepping_stones.rhai"), 6.0),
+        ("terrain_fig8_trap.rhai", include_str!("../maps/terrain_fig8_trap.rhai"), 3.6),
+    ];
+
+    /// The bar of issue 11: the character crosses every shipped terrain scene with zero
+    /// collisions and zero invalid footholds, deterministically.
+    #[test]
+    fn the_character_crosses_every_shipped_terrain_scene() {
+        let (p, c) = (params(), controller());
+        for (name, src, beyond_m) in SCENES {
+            let s = map(src, name);
+            let w = s.world();
+            assert!(!w.terrain.is_flat(), "{name}");
+            let e = run_episode(&s, &w, 0, &c, &p, 0, 1);
+            let r = &e.record;
+            assert!(r.reached, "{name}: {r:?}");
+            assert_eq!(r.collisions, 0, "{name}");
+            assert_eq!(r.invalid_footholds, Some(0), "{name}");
+            assert!(r.footsteps_planned.unwrap() >= 8, "{name}: {r:?}");
+            assert!(e.trail.iter().any(|q| q.x > beyond_m), "{name}: crossed the terrain");
+            assert_eq!(run_episode(&s, &w, 0, &c, &p, 0, 1).trail, e.trail, "{name}: deterministic");
+        }
+    }
+
+    #[test]
+    fn footholds_land_on_the_stones_and_the_pelvis_follows_the_stairs() {
+        let (p, c) = (params(), controller());
+        for (name, src, _) in [SCENES[0], SCENES[2]] {
+            let s = map(src, name);
+            let mut sim = Simulation::new(s.world(), p.clone());
+            sim.add_agent(s.tasks[0], &c);
+            let mut highest: f64 = 0.0;
+            while !sim.all_done() {
+                sim.step();
+                let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+                highest = highest.max(f.ground_height_m(0.5));
+            }
+            let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+            for h in f.footholds() {
+                let z = sim.world.terrain.ground(h.position);
+                assert!(z.is_some_and(|z| (z - h.z_m).abs() < 1e-6), "{name}: {h:?} over {z:?}");
+            }
+            if name.contains("stairs") {
+                assert!((highest - 0.6).abs() < 0.05, "the pelvis climbs to the landing: {highest}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_gap_too_wide_stops_the_character_with_a_reason() {
+        let src = r#"
+            let m = world("wide_gap");
+            m.start(0.0, 0.0, 0.0);
+            m.goal(8.0, 0.0, 0.5);
+            m.time_limit(15.0);
+            m.hole_box(4.0, 0.0, 1.5, 40.0, 0.0);
+            m
+        "#;
+        let s = map(src, "wide_gap.rhai");
+        let mut sim = Simulation::new(s.world(), params());
+        sim.add_agent(s.tasks[0], &controller());
+        while !sim.all_done() {
+            sim.step();
+        }
+        let body = sim.agents[0].body.animated().unwrap();
+        let f = body.footing().unwrap();
+        assert_eq!(f.invalid_footholds(), 0);
+        assert!(f.footholds().iter().all(|h| h.position.x < 3.25 || h.position.x > 4.75), "{:?}", f.footholds());
+        let reason = f.stopped().expect("stopped");
+        assert!(reason.contains("no sequence of steps"), "{reason}");
+        assert!(sim.agents[0].outcome != Some(strider::sim::Outcome::Reached));
+    }
+
+    #[test]
+    fn flat_worlds_have_no_footing() {
+        let s = map(include_str!("../maps/open_field.rhai"), "open_field.rhai");
+        let e = run_episode(&s, &s.world(), 0, &controller(), &params(), 0, 1);
+        assert_eq!(e.record.invalid_footholds, None);
+        assert_eq!(e.record.footstep_planning_ms_p99, None);
+    }
+}

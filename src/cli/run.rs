@@ -184,7 +184,11 @@ pub fn run(args: RunArgs) -> Outcome {
     let controller = load_controller(args.map.rules.as_deref())?;
     let count = episode_count(&source, args.episodes);
     check_episodes(count)?;
-    let params = StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
+    let params = StepParameters {
+        animation: super::anim::load_animation(&args.body)?,
+        stopwatch: Some(wall_stopwatch()),
+        ..StepParameters::default()
+    };
     let bar = if count > 1 && io::stderr().is_terminal() {
         let b = indicatif::ProgressBar::new(count as u64);
         b.set_style(
@@ -233,15 +237,26 @@ fn opt(x: Option<f64>) -> String {
     x.map_or_else(String::new, |v| format!("{v}"))
 }
 
+/// The wall clock, lent to the simulation to time footstep planning (the figures only).
+pub fn wall_stopwatch() -> crate::sim::footing::StopwatchHandle {
+    struct Wall(std::time::Instant);
+    impl crate::sim::footing::Stopwatch for Wall {
+        fn now_s(&self) -> f64 {
+            self.0.elapsed().as_secs_f64()
+        }
+    }
+    crate::sim::footing::StopwatchHandle(std::sync::Arc::new(Wall(std::time::Instant::now())))
+}
+
 fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> {
     writeln!(
         out,
-        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m,barn_score,barn_score_walking"
+        "episode,scenario,task,seed,reached,collisions,time_s,path_length_m,optimal_length_m,path_ratio,min_clearance_m,stalls,boundary_follows,foot_skating_cm_per_frame,transition_cost,tracking_rms_m,barn_score,barn_score_walking,invalid_footholds,footstep_planning_ms_p99"
     )?;
     for r in records {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.episode,
             r.scenario,
             r.task,
@@ -259,7 +274,9 @@ fn write_csv(out: &mut impl Write, records: &[EpisodeRecord]) -> io::Result<()> 
             opt(r.transition_cost),
             opt(r.tracking_rms_m),
             opt(r.barn_score),
-            opt(r.barn_score_walking)
+            opt(r.barn_score_walking),
+            r.invalid_footholds.map_or(String::new(), |n| n.to_string()),
+            opt(r.footstep_planning_ms_p99)
         )?;
     }
     Ok(())
