@@ -88,6 +88,26 @@ fn rhai_maps_carry_terrain() {
 }
 
 #[test]
+fn footstep_parameters_come_from_the_map_script() {
+    let base = "let m = world(\"t\");\nm.start(0.0, 0.0, 0.0);\nm.goal(10.0, 0.0, 0.5);\n";
+    let ok = format!("{base}m.footsteps(#{{ window_steps: 2, intervals: 8, step_max_m: 0.8 }});\nm\n");
+    let s = map_api::load_scenario(&ok, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+    assert_eq!((s.footsteps.window_steps, s.footsteps.intervals, s.footsteps.step_max_m), (2, 8, 0.8));
+    assert_eq!(s.world().footsteps, s.footsteps);
+    for (bad, needle) in [
+        ("#{ intervals: 0 }", "intervals = 0"),
+        ("#{ window_steps: 0 }", "window_steps = 0"),
+        ("#{ step_min_m: 0.9, step_max_m: 0.3, step_init_m: 0.5 }", "inverted step limits"),
+        ("#{ stride: 1.0 }", "unknown parameter `stride`"),
+    ] {
+        let src = format!("{base}m.footsteps({bad});\nm\n");
+        let e = map_api::load_scenario(&src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+        assert_eq!(e.line, 4, "{e}");
+        assert!(e.message.contains(needle), "{needle}: {e}");
+    }
+}
+
+#[test]
 fn the_profile_along_a_path_is_the_terrain_under_it() {
     let s = text::parse(TERRAIN_TEXT, "t.txt").unwrap();
     let w = s.world();

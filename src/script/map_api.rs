@@ -17,6 +17,10 @@
 //! m.hole_box(15.0, 0.0, 2.0, 2.0, 0.0);             // no ground inside (also hole_cylinder, hole)
 //! m.slope(18.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.5);      // box, then z0 at its −x side, z1 at +x
 //! m.stairs(21.0, 0.0, 2.0, 2.0, 0.0, 0.5, 0.0, 3);  // box, z0 before, z1 after, treads
+//! // The footstep planner of this map's characters (seed 002 §4.2; any subset of the keys):
+//! m.footsteps(#{ window_steps: 3, intervals: 13, step_min_m: 0.25, step_max_m: 0.9,
+//!                step_init_m: 0.65, max_step_up_m: 0.45, max_step_down_m: 0.5,
+//!                max_slope_deg: 30.0, foot_length_m: 0.24 });
 //! m
 //! ```
 //! Obstacles at most 0.45 m high (see `heights`) are ground to step onto or over.
@@ -105,9 +109,52 @@ fn cylinder(x: &Dynamic, y: &Dynamic, r: &Dynamic) -> Res<ObstacleShape> {
     Ok(ObstacleShape::Cylinder { center: DVec2::new(num(x, "x")?, num(y, "y")?), radius: num(r, "radius")? })
 }
 
+/// Sets the footstep planner's parameters of the map's characters from a Rhai object map;
+/// unknown keys and invalid values are errors.
+fn footsteps(m: &mut MapHandle, fields: rhai::Map) -> Res<MapHandle> {
+    let mut st = m.0.borrow_mut();
+    let Some(scenario) = st.scenario.as_mut() else { return Ok(m.clone()) };
+    let mut p = scenario.footsteps;
+    for (key, value) in &fields {
+        let count = |v: &Dynamic| -> Res<usize> {
+            v.as_int().ok().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| -> Box<EvalAltResult> {
+                format!("footsteps: `{key}` must be a whole number ≥ 0").into()
+            })
+        };
+        match key.as_str() {
+            "window_steps" => p.window_steps = count(value)?,
+            "intervals" => p.intervals = count(value)?,
+            "step_min_m" => p.step_min_m = num(value, key)?,
+            "step_max_m" => p.step_max_m = num(value, key)?,
+            "step_init_m" => p.step_init_m = num(value, key)?,
+            "max_step_up_m" => p.max_step_up_m = num(value, key)?,
+            "max_step_down_m" => p.max_step_down_m = num(value, key)?,
+            "max_slope_deg" => p.max_slope_deg = num(value, key)?,
+            "foot_length_m" => {
+                // The heel keeps its share of the built-in foot (0.05 of 0.24 m).
+                let l = num(value, key)?;
+                let heel = p.leg.heel_back_m / p.leg.foot_length_m();
+                p.leg.heel_back_m = l * heel;
+                p.leg.toe_forward_m = l * (1.0 - heel);
+            }
+            other => {
+                return Err(format!(
+                    "footsteps: unknown parameter `{other}` (expected window_steps, intervals, step_min_m, step_max_m, \
+                     step_init_m, max_step_up_m, max_step_down_m, max_slope_deg or foot_length_m)"
+                )
+                .into());
+            }
+        }
+    }
+    p.validate().map_err(|e| -> Box<EvalAltResult> { format!("footsteps: {e}").into() })?;
+    scenario.footsteps = p;
+    Ok(m.clone())
+}
+
 /// Registers the terrain functions (see the [module docs](self)).
 fn register_terrain(engine: &mut rhai::Engine) {
     type D = Dynamic;
+    engine.register_fn("footsteps", footsteps);
     engine.register_fn("platform", |m: &mut MapHandle, z: D, pts: Array| -> Res<MapHandle> {
         m.feature(
             ObstacleShape::Polygon { outline: points(&pts, "platform")? },
