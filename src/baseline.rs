@@ -215,11 +215,7 @@ impl PureRl {
                     0
                 } else {
                     // Axis of the long side against the line of sight.
-                    let axis = if obb.half_extents.x >= obb.half_extents.y {
-                        obb.yaw
-                    } else {
-                        obb.yaw + 0.5 * std::f64::consts::PI
-                    };
+                    let axis = if obb.half_extents.x >= obb.half_extents.y { obb.yaw } else { obb.yaw + 0.5 * std::f64::consts::PI };
                     let across = (DVec2::from_angle(axis).perp_dot(to.normalize_or_zero())).abs();
                     if across > std::f64::consts::FRAC_1_SQRT_2 { 1 } else { 2 }
                 };
@@ -247,11 +243,7 @@ impl PureRl {
     }
 
     fn choose(&self, state: u64, n: usize, epsilon: f64, rng: &mut ChaCha8Rng) -> usize {
-        if crate::rng::unit(rng) < epsilon {
-            (rng.next_u64() % n.max(1) as u64) as usize
-        } else {
-            self.greedy(state, n)
-        }
+        if crate::rng::unit(rng) < epsilon { (rng.next_u64() % n.max(1) as u64) as usize } else { self.greedy(state, n) }
     }
 
     /// Plays one episode of `task` in `world`; with `learn`, explores with the current ε and

@@ -139,7 +139,10 @@ pub fn random_task(world: &World, area: (DVec2, DVec2), radius: f64, seed: u64, 
     let mut rng = crate::rng::stream(seed, index, stream);
     let mut scratch = Vec::new();
     let mut point = |rng: &mut rand_chacha::ChaCha8Rng| loop {
-        let p = DVec2::new(crate::rng::uniform(rng, area.0.x, area.1.x), crate::rng::uniform(rng, area.0.y, area.1.y));
+        let p = DVec2::new(
+            crate::rng::uniform(rng, area.0.x, area.1.x),
+            crate::rng::uniform(rng, area.0.y, area.1.y),
+        );
         if world.is_free(p, radius + 0.2, &mut scratch) {
             return p;
         }
@@ -269,8 +272,9 @@ pub fn run(
                 .collect();
             let records = experiment::run_batch(&jobs, controller, &params, &|| {});
             let (mine, others) = records.split_at(held_out.len());
-            let rate =
-                |r: &[experiment::EpisodeRecord]| r.iter().filter(|e| e.reached).count() as f64 / r.len().max(1) as f64;
+            let rate = |r: &[experiment::EpisodeRecord]| {
+                r.iter().filter(|e| e.reached).count() as f64 / r.len().max(1) as f64
+            };
             let fuzzy_rl = PlannerFigures {
                 state_parameters: 3,
                 table_entries: fuzzy_entries,
