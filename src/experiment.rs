@@ -75,6 +75,14 @@ pub struct EpisodeRecord {
     pub barn_score: Option<f64>,
     /// The same with OT the reference path at the run's walking speed ([`walking_speed`]).
     pub barn_score_walking: Option<f64>,
+    /// Animated body on uneven terrain: footholds the terrain does not support (whole sole on
+    /// ground at the planned height); must be 0.
+    pub invalid_footholds: Option<u32>,
+    /// Animated body on uneven terrain: steps planned by the footstep planner.
+    pub footsteps_planned: Option<u64>,
+    /// Animated body on uneven terrain, when the run lends a stopwatch
+    /// ([`StepParameters::stopwatch`]): 99th percentile of the planning time per step, ms.
+    pub footstep_planning_ms_p99: Option<f64>,
 }
 
 /// One value of an [`EpisodeRecord`].
@@ -106,7 +114,7 @@ impl From<Option<u64>> for Field<'_> {
 
 impl EpisodeRecord {
     /// Every field, named, in the order output formats list them.
-    pub fn fields(&self) -> [(&'static str, Field<'_>); 26] {
+    pub fn fields(&self) -> [(&'static str, Field<'_>); 29] {
         use Field::{Count, Flag, Number, Text};
         [
             ("episode", Count(self.episode as u64)),
@@ -135,6 +143,9 @@ impl EpisodeRecord {
             ("speed_rms_mps", self.speed_rms_mps.into()),
             ("barn_score", self.barn_score.into()),
             ("barn_score_walking", self.barn_score_walking.into()),
+            ("invalid_footholds", self.invalid_footholds.map(u64::from).into()),
+            ("footsteps_planned", self.footsteps_planned.into()),
+            ("footstep_planning_ms_p99", self.footstep_planning_ms_p99.into()),
         ]
     }
 }
@@ -196,6 +207,11 @@ pub struct Summary {
     /// The same with the optimal time at the run's walking speed ([`walking_speed`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub barn_score_walking: Option<f64>,
+    /// Uneven terrain: invalid footholds over all episodes (must be 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub invalid_footholds: Option<u64>,
+    /// Uneven terrain: the largest episode's 99th percentile of the planning time per step, ms.
+    pub footstep_planning_ms_p99: Option<f64>,
 }
 
 /// A finished episode with its trail (for pictures).
@@ -252,6 +268,7 @@ pub fn run_episode_with(
     let animated = agent.body.animated();
     let playback = animated.map(|a| a.metrics());
     let tracking = animated.map(|a| a.tracking);
+    let footing = animated.and_then(|a| a.footing());
     let record = EpisodeRecord {
         episode,
         scenario: scenario.name.clone(),
@@ -279,6 +296,9 @@ pub fn run_episode_with(
         speed_rms_mps: tracking.map(|t| t.rms_speed()),
         barn_score: scenario.reference.map(|r| r.score(reached, m.time_s, BARN_SPEED_MPS)),
         barn_score_walking: scenario.reference.map(|r| r.score(reached, m.time_s, walking_speed(params))),
+        invalid_footholds: footing.map(|f| f.invalid_footholds()),
+        footsteps_planned: footing.map(|f| f.plans()),
+        footstep_planning_ms_p99: footing.and_then(|f| p99(f.planning_times_s())).map(|s| s * 1e3),
     };
     Episode { record, trail: agent.trail.clone() }
 }
@@ -363,6 +383,14 @@ pub fn run_batch_of(
         .collect()
 }
 
+/// The 99th percentile of `xs` (nearest rank), `None` when empty.
+pub fn p99(xs: &[f64]) -> Option<f64> {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let rank = ((v.len() as f64 * 0.99).ceil() as usize).max(1);
+    v.get(rank - 1).copied()
+}
+
 fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
     let (sum, n) = xs.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
     (n > 0).then(|| sum / n as f64)
@@ -407,6 +435,8 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
         },
         barn_score: mean(records.iter().filter_map(|r| r.barn_score)),
         barn_score_walking: mean(records.iter().filter_map(|r| r.barn_score_walking)),
+        invalid_footholds: records.iter().filter_map(|r| r.invalid_footholds).map(u64::from).reduce(|a, b| a + b),
+        footstep_planning_ms_p99: records.iter().filter_map(|r| r.footstep_planning_ms_p99).reduce(f64::max),
         transitions_per_s: {
             let n: u64 = records.iter().filter_map(|r| r.transitions).sum();
             let t: f64 = records.iter().filter(|r| r.transitions.is_some()).map(|r| r.time_s).sum();

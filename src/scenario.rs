@@ -9,7 +9,7 @@
 use glam::DVec2;
 
 use crate::geom::Shape;
-use crate::world::{Obstacle, Task, World};
+use crate::world::{Obstacle, Task, Terrain, World};
 
 /// Default agent radius, metres.
 pub const DEFAULT_AGENT_RADIUS: f64 = 0.3;
@@ -30,6 +30,10 @@ pub struct Scenario {
     pub agent_radius: f64,
     /// A benchmark's reference for the tasks (a BARN challenge world), if any.
     pub reference: Option<Reference>,
+    /// The ground: flat, or with platforms, slopes, stairs and holes (seed 002 §3.2).
+    pub terrain: Terrain,
+    /// The footstep planner's parameters for the characters of this map (seed 002 §4.2).
+    pub footsteps: crate::footstep::FootstepParams,
 }
 
 /// Speed at which a BARN reference path is walked for the challenge's optimal time, m/s.
@@ -66,12 +70,24 @@ impl Scenario {
             tasks: Vec::new(),
             agent_radius: DEFAULT_AGENT_RADIUS,
             reference: None,
+            terrain: Terrain::Flat,
+            footsteps: Default::default(),
         }
     }
 
-    /// The world the tasks run in.
+    /// The world the tasks run in. Obstacles low enough to step onto or over
+    /// ([`Terrain::is_low`]) are part of its terrain, not walls, once the map has any terrain
+    /// feature or low obstacle; a map with neither is the flat world of its obstacles.
     pub fn world(&self) -> World {
-        World::new(self.obstacles.clone())
+        let terrain = self.terrain.with_low_obstacles(&self.obstacles);
+        let mut world = if terrain.is_flat() {
+            World::new(self.obstacles.clone())
+        } else {
+            World::new(self.obstacles.iter().filter(|o| !Terrain::is_low(o)).cloned().collect())
+        };
+        world.terrain = terrain;
+        world.footsteps = self.footsteps;
+        world
     }
 
     /// Checks the scenario; the message says which task or obstacle is wrong.

@@ -10,6 +10,7 @@ pub mod animated;
 pub mod body;
 pub mod controller;
 pub mod follow;
+pub mod footing;
 pub mod memory;
 
 use glam::DVec2;
@@ -41,6 +42,9 @@ pub struct StepParameters {
     /// When set, agents are animated characters driven by this database and policy instead of
     /// kinematic discs (none).
     pub animation: Option<AnimationHandle>,
+    /// A clock lent by a front-end to time footstep planning on uneven terrain (none: not
+    /// timed). Only the timing figures read it; the motion never does.
+    pub stopwatch: Option<footing::StopwatchHandle>,
 }
 
 impl Default for StepParameters {
@@ -53,6 +57,7 @@ impl Default for StepParameters {
             limits: DiscLimits::default(),
             memory: MemoryParams::default(),
             animation: None,
+            stopwatch: None,
         }
     }
 }
@@ -246,7 +251,18 @@ impl Simulation {
         let body = match &self.params.animation {
             None => AgentBody::Disc(KinematicDisc::new(task.start, self.params.limits)),
             Some(a) => {
-                AgentBody::Animated(Box::new(AnimatedBody::new(a.0.clone(), task.start, self.params.limits.radius)))
+                let mut body = AnimatedBody::new(a.0.clone(), task.start, self.params.limits.radius);
+                if !self.world.terrain.is_flat() {
+                    let terrain = std::sync::Arc::new(self.world.terrain.clone());
+                    let at = body.player().ground();
+                    body.set_footing(footing::Footing::new(
+                        terrain,
+                        self.world.footsteps,
+                        at,
+                        self.params.stopwatch.clone(),
+                    ));
+                }
+                AgentBody::Animated(Box::new(body))
             }
         };
         let mut controller = controller.clone();

@@ -34,9 +34,9 @@
 //! (Trigonometric functions come from the platform's math library; a machine whose library
 //! rounds a last bit differently could, rarely, steer a run elsewhere.)
 //!
-//! Side views (`--side`) need terrain or obstacles with a height profile to show; strider's
-//! terrain is flat and side views of the world are not drawn yet, so the flag adds a note to
-//! the report and writes nothing extra.
+//! Side views (`--side`) need terrain or obstacles with a height profile to show; side views
+//! of the world are not drawn yet, so the flag adds a note to the report and writes nothing
+//! extra.
 
 pub mod pixels;
 pub mod trajectory;

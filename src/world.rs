@@ -40,6 +40,8 @@ pub struct World {
     bounds: Option<Aabb>,
     /// Ground height over the plane.
     pub terrain: Terrain,
+    /// The footstep planner's parameters for characters walking on its terrain.
+    pub footsteps: crate::footstep::FootstepParams,
 }
 
 impl World {
@@ -54,7 +56,7 @@ impl World {
         let boxes: Vec<Aabb> = parts.iter().map(|p| p.shape.aabb()).collect();
         let bounds = boxes.iter().copied().reduce(|a, b| a.union(&b));
         let index = SpatialIndex::build(&boxes);
-        World { obstacles, parts, index, bounds, terrain: Terrain::Flat }
+        World { obstacles, parts, index, bounds, terrain: Terrain::Flat, footsteps: Default::default() }
     }
 
     /// The obstacles, in the order given.

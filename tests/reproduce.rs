@@ -31,7 +31,7 @@ fn success(rl: &mut PureRl, db: &strider::anim::Database, world: &World, tasks: 
 
 #[test]
 fn the_pure_rl_planner_learns_deterministically_to_reach_goals_past_an_obstacle() {
-    let db = strider::cli::anim::builtin_database().expect("built-in database");
+    let db = strider::builtin::database().expect("built-in database");
     let wall = ObstacleShape::Box { center: DVec2::new(5.0, 5.0), width: 0.6, height: 3.0, yaw: 0.0 };
     let world = World::new(vec![Obstacle::build(wall, 0.0, 2.0).unwrap()]);
     let area = (DVec2::new(0.0, 0.0), DVec2::new(10.0, 10.0));

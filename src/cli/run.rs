@@ -101,7 +101,11 @@ pub fn run(args: RunArgs) -> Outcome {
     let controller = load_controller(args.map.rules.as_deref())?;
     let count = episode_count(&source, args.episodes);
     check_episodes(count)?;
-    let params = StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
+    let params = StepParameters {
+        animation: super::anim::load_animation(&args.body)?,
+        stopwatch: Some(wall_stopwatch()),
+        ..StepParameters::default()
+    };
     let bar = if count > 1 && io::stderr().is_terminal() {
         let b = indicatif::ProgressBar::new(count as u64);
         b.set_style(
@@ -165,6 +169,17 @@ pub fn write_records(
             Ok(())
         }
     }
+}
+
+/// The wall clock, lent to the simulation to time footstep planning (the figures only).
+pub fn wall_stopwatch() -> crate::sim::footing::StopwatchHandle {
+    struct Wall(std::time::Instant);
+    impl crate::sim::footing::Stopwatch for Wall {
+        fn now_s(&self) -> f64 {
+            self.0.elapsed().as_secs_f64()
+        }
+    }
+    crate::sim::footing::StopwatchHandle(std::sync::Arc::new(Wall(std::time::Instant::now())))
 }
 
 fn csv_cell(f: &Field) -> String {
@@ -273,6 +288,9 @@ mod tests {
             speed_rms_mps: a(0.1),
             barn_score: a(0.7),
             barn_score_walking: a(0.6),
+            invalid_footholds: animated.then_some(0),
+            footsteps_planned: n(12),
+            footstep_planning_ms_p99: a(0.2),
         }
     }
 

@@ -447,6 +447,35 @@ impl<'g> FootstepPlanner<'g> {
         })
     }
 
+    /// A planner for a walker already under way on `ground`: its rear foot at `rear_m`, the
+    /// front one at `front_m` (not behind it), `next` the foot to swing next (the rear one),
+    /// walking toward `goal_m`. Footholds lie on the lattice of whole micrometres from the rear
+    /// foot.
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_stance(
+        ground: &'g GroundProfile,
+        rear_m: f64,
+        front_m: f64,
+        next: Foot,
+        goal_m: f64,
+        params: FootstepParams,
+        mode: PlannerMode,
+    ) -> Result<FootstepPlanner<'g>, PlanError> {
+        let mut planner = FootstepPlanner::new(ground, rear_m, goal_m.max(rear_m), params, mode)?;
+        if !(front_m.is_finite() && front_m >= rear_m) {
+            return Err(PlanError::Course(ProfileError::Course(format!(
+                "the front foot ({front_m}) must not be behind the rear one ({rear_m})"
+            ))));
+        }
+        let b = ((front_m - rear_m) * 1e6).round() as i64;
+        let sole = planner.model.sole(b).map_err(|failure| PlanError::Start { x_m: front_m, failure })?;
+        planner.state = (0, b);
+        planner.next_foot = next;
+        planner.footholds = vec![planner.footholds[0], Foothold { foot: next.other(), sole }];
+        planner.footholds[0].foot = next;
+        Ok(planner)
+    }
+
     /// A planner for `course` (its ground, start and goal).
     pub fn for_course(
         course: &'g Course,

@@ -13,8 +13,17 @@
 //! | `convex x1 y1 x2 y2 …` | convex hull of at least three points |
 //! | `poly x1 y1 x2 y2 …` | simple, possibly non-convex polygon (split into convex parts) |
 //! | `z_extent z_min z_max` | vertical extent of the obstacles that follow (default [`DEFAULT_Z`]) |
+//! | `platform z SHAPE` | terrain: flat ground at height `z` inside `SHAPE` (a `box`, `cyl`, `convex` or `poly` with its numbers, as above) |
+//! | `hole SHAPE` | terrain: no ground (no foothold) inside `SHAPE` |
+//! | `slope z0 z1 cx cy w h [yaw_rad]` | terrain: a box whose ground rises linearly from `z0` at its −x side to `z1` at its +x side |
+//! | `stairs z0 z1 n cx cy w h [yaw_rad]` | terrain: a box of `n` equal treads along its x axis, from ground at `z0` before it to `z1` after it (tread `k` at `z0 + (z1 − z0)(k + 1)/(n + 1)`) |
 //! | `ref_path_length L` | BARN extra: reference path length (m), the scenario's [`Reference`] |
 //! | `optimal_time_at_2mps T` | BARN extra: optimal time at 2 m/s (s), kept in [`TextExtras`] |
+//!
+//! Terrain lines are painted in order over flat ground at height 0: where several cover a point,
+//! the last decides (a `hole` then `platform … cyl` stones on it make stepping stones). Obstacles
+//! whose `z_extent` keeps them at most 0.45 m high are ground to step onto or over, not walls
+//! ([`Terrain`](crate::world::Terrain)).
 //!
 //! Tasks are formed by pairing `start` and `goal` lines in order: each `goal` takes the oldest
 //! `start` not yet paired, so both `start A, goal A, start B, goal B` and
@@ -37,7 +46,8 @@ use crate::diagnostic::SourceError;
 use crate::geom::GeomError;
 use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario};
 use crate::world::obstacle::DEFAULT_Z;
-use crate::world::{Obstacle, ObstacleShape, Pose, Task, World};
+use crate::world::terrain::{FeatureKind, MAX_STAIR_TREADS, TerrainFeature};
+use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain, World};
 
 /// Items of a text world that describe a benchmark rather than the world (BARN challenge).
 /// [`parse`] keeps the reference path's length as the scenario's [`Reference`] (from
@@ -97,6 +107,31 @@ pub fn write(scenario: &Scenario) -> String {
             }
             ObstacleShape::Convex { points } => write_points(&mut out, "convex", points),
             ObstacleShape::Polygon { outline } => write_points(&mut out, "poly", outline),
+        }
+    }
+    for f in scenario.terrain.features() {
+        let lead = match f.kind {
+            FeatureKind::Platform { z_m } => format!("platform {z_m} "),
+            FeatureKind::Hole => "hole ".to_string(),
+            FeatureKind::Slope { z0_m, z1_m } => format!("slope {z0_m} {z1_m}"),
+            FeatureKind::Stairs { z0_m, z1_m, treads } => format!("stairs {z0_m} {z1_m} {treads}"),
+        };
+        out.push_str(&lead);
+        match (&f.shape, f.kind) {
+            (
+                ObstacleShape::Box { center, width, height, yaw },
+                FeatureKind::Slope { .. } | FeatureKind::Stairs { .. },
+            ) => {
+                let _ = writeln!(out, " {} {} {width} {height} {yaw}", center.x, center.y);
+            }
+            (ObstacleShape::Box { center, width, height, yaw }, _) => {
+                let _ = writeln!(out, "box {} {} {width} {height} {yaw}", center.x, center.y);
+            }
+            (ObstacleShape::Cylinder { center, radius }, _) => {
+                let _ = writeln!(out, "cyl {} {} {radius}", center.x, center.y);
+            }
+            (ObstacleShape::Convex { points }, _) => write_points(&mut out, "convex", points),
+            (ObstacleShape::Polygon { outline }, _) => write_points(&mut out, "poly", outline),
         }
     }
     out
@@ -173,6 +208,7 @@ struct Parser<'f> {
     last_goal_line: Option<usize>,
     time_limit_line: Option<usize>,
     z: (f64, f64),
+    features: Vec<TerrainFeature>,
 }
 
 impl<'f> Parser<'f> {
@@ -189,6 +225,7 @@ impl<'f> Parser<'f> {
             last_goal_line: None,
             time_limit_line: None,
             z: DEFAULT_Z,
+            features: Vec::new(),
         }
     }
 
@@ -203,6 +240,7 @@ impl<'f> Parser<'f> {
                 self.item(i + 1, keyword, args, end_col)?;
             }
         }
+        self.scenario.terrain = Terrain::from_features(std::mem::take(&mut self.features));
         if let Some(p) = self.pending.front() {
             return Err(self.err(p.line, p.col, "this `start` has no matching `goal` line"));
         }
@@ -338,20 +376,94 @@ impl<'f> Parser<'f> {
                 }
                 *slot = Some(value);
             }
+            "cyl" | "box" | "convex" | "poly" => {
+                let shape = self.shape(line, kw, args, end_col)?;
+                self.obstacle(line, kw, args, shape)?;
+            }
+            "platform" | "hole" => {
+                let usage = format!(
+                    "{} {}SHAPE …, SHAPE one of box, cyl, convex, poly",
+                    kw.text,
+                    if kw.text == "hole" { "" } else { "z " }
+                );
+                let skip = usize::from(kw.text == "platform");
+                let Some(&shape_kw) = args.get(skip) else {
+                    return Err(self.err(line, end_col, format!("`{}` needs a shape (usage: {usage})", kw.text)));
+                };
+                let kind = if skip == 1 {
+                    FeatureKind::Platform { z_m: self.number(line, args[0])? }
+                } else {
+                    FeatureKind::Hole
+                };
+                if !matches!(shape_kw.text, "box" | "cyl" | "convex" | "poly") {
+                    return Err(self.err(
+                        line,
+                        shape_kw.col,
+                        format!(
+                            "expected a shape (box, cyl, convex or poly), found `{}` (usage: {usage})",
+                            shape_kw.text
+                        ),
+                    ));
+                }
+                let shape = self.shape(line, shape_kw, &args[skip + 1..], end_col)?;
+                self.feature(line, kw, shape, kind)?;
+            }
+            "slope" | "stairs" => {
+                let stairs = kw.text == "stairs";
+                let usage =
+                    if stairs { "stairs z0 z1 treads cx cy w h [yaw_rad]" } else { "slope z0 z1 cx cy w h [yaw_rad]" };
+                let lead = if stairs { 3 } else { 2 };
+                let v = self.numbers(line, kw, args, end_col, (lead + 4, lead + 5), usage)?;
+                let kind = if stairs {
+                    let n = v[2];
+                    if !(n >= 1.0 && n.fract() == 0.0 && n <= MAX_STAIR_TREADS as f64) {
+                        return Err(self.err(
+                            line,
+                            args[2].col,
+                            format!("stairs need a whole number of treads from 1 to {MAX_STAIR_TREADS}, found {n}"),
+                        ));
+                    }
+                    FeatureKind::Stairs { z0_m: v[0], z1_m: v[1], treads: n as usize }
+                } else {
+                    FeatureKind::Slope { z0_m: v[0], z1_m: v[1] }
+                };
+                let width = self.positive(line, args[lead + 2], v[lead + 2], "box width")?;
+                let height = self.positive(line, args[lead + 3], v[lead + 3], "box height")?;
+                let yaw = v.get(lead + 4).copied().unwrap_or(0.0);
+                let shape = ObstacleShape::Box { center: DVec2::new(v[lead], v[lead + 1]), width, height, yaw };
+                self.feature(line, kw, shape, kind)?;
+            }
+            other => {
+                return Err(self.err(
+                    line,
+                    kw.col,
+                    format!(
+                        "unknown item `{other}` (expected start, goal, time_limit, agent_radius, cyl, box, convex, \
+                         poly, z_extent, platform, hole, slope, stairs, ref_path_length or optimal_time_at_2mps)"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads an outline: `kw` is its keyword (`cyl`, `box`, `convex` or `poly`), `args` its
+    /// numbers.
+    fn shape(&self, line: usize, kw: Tok<'_>, args: &[Tok<'_>], end_col: usize) -> Result<ObstacleShape, SourceError> {
+        Ok(match kw.text {
             "cyl" => {
                 let v = self.numbers(line, kw, args, end_col, (3, 3), "cyl x y r")?;
                 let radius = self.positive(line, args[2], v[2], "cylinder radius")?;
-                self.obstacle(line, kw, args, ObstacleShape::Cylinder { center: DVec2::new(v[0], v[1]), radius })?;
+                ObstacleShape::Cylinder { center: DVec2::new(v[0], v[1]), radius }
             }
             "box" => {
                 let v = self.numbers(line, kw, args, end_col, (4, 5), "box cx cy w h [yaw_rad]")?;
                 let width = self.positive(line, args[2], v[2], "box width")?;
                 let height = self.positive(line, args[3], v[3], "box height")?;
                 let yaw = v.get(4).copied().unwrap_or(0.0);
-                let shape = ObstacleShape::Box { center: DVec2::new(v[0], v[1]), width, height, yaw };
-                self.obstacle(line, kw, args, shape)?;
+                ObstacleShape::Box { center: DVec2::new(v[0], v[1]), width, height, yaw }
             }
-            "convex" | "poly" => {
+            _ => {
                 let usage = format!("{} x1 y1 x2 y2 x3 y3 …", kw.text);
                 let v = self.numbers(line, kw, args, end_col, (6, usize::MAX), &usage)?;
                 if v.len() % 2 == 1 {
@@ -363,24 +475,25 @@ impl<'f> Parser<'f> {
                     ));
                 }
                 let points: Vec<DVec2> = v.chunks_exact(2).map(|c| DVec2::new(c[0], c[1])).collect();
-                let shape = if kw.text == "convex" {
+                if kw.text == "convex" {
                     ObstacleShape::Convex { points }
                 } else {
                     ObstacleShape::Polygon { outline: points }
-                };
-                self.obstacle(line, kw, args, shape)?;
+                }
             }
-            other => {
-                return Err(self.err(
-                    line,
-                    kw.col,
-                    format!(
-                        "unknown item `{other}` (expected start, goal, time_limit, agent_radius, cyl, box, convex, \
-                         poly, z_extent, ref_path_length or optimal_time_at_2mps)"
-                    ),
-                ));
-            }
-        }
+        })
+    }
+
+    fn feature(
+        &mut self,
+        line: usize,
+        kw: Tok<'_>,
+        shape: ObstacleShape,
+        kind: FeatureKind,
+    ) -> Result<(), SourceError> {
+        let feature = TerrainFeature::new(shape, kind)
+            .map_err(|e| self.err(line, kw.col, format!("invalid `{}`: {e}", kw.text)))?;
+        self.features.push(feature);
         Ok(())
     }
 

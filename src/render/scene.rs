@@ -77,6 +77,12 @@ pub mod palette {
     pub const SENSOR: Rgba = Rgba::rgb(86, 180, 233);
     /// Opacity of the sensor wedge fill.
     pub const SENSOR_ALPHA: u8 = 56;
+    /// Terrain raised above the ground (platforms, slopes, stairs, low obstacles; sand).
+    pub const TERRAIN_RAISED: Rgba = Rgba::rgb(226, 212, 180);
+    /// Outline of terrain features and the edges of stair treads.
+    pub const TERRAIN_EDGE: Rgba = Rgba::rgb(150, 128, 90);
+    /// Holes in the ground: no foothold (dark blue-grey).
+    pub const TERRAIN_HOLE: Rgba = Rgba::rgb(70, 90, 120);
     /// Footprints (reddish purple).
     pub const FOOTPRINT: Rgba = Rgba::rgb(204, 121, 167);
     /// Labels, caption and scale bar.
@@ -332,7 +338,8 @@ pub fn scene_transform(scene: &Scene, size: (f64, f64), text_height_px: f64) -> 
 /// Draws `scene` onto `painter`, fitted to the painter's size.
 ///
 /// Drawing order (later on top): grid lines every 1 m or 5 m (coarser when zoomed out),
-/// obstacle parts filled and outlined, the convex hull of non-convex obstacles (thin dashed),
+/// terrain features in their order (raised ground in sand with its outline and stair tread
+/// edges, holes in dark blue-grey), obstacle parts filled and outlined, the convex hull of non-convex obstacles (thin dashed),
 /// goal discs with a cross, trails, footprints, sensor sector wedges (from the agent's disc to
 /// the sensed free distance, translucent), agent discs with heading lines, agent labels, a
 /// scale bar in the bottom-left corner and the caption centred at the top.
@@ -343,6 +350,9 @@ pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
     let tf = scene_transform(scene, size, th);
     let mut d = Drawer { p: painter, tf, size };
     d.grid();
+    for f in scene.world.terrain.features() {
+        d.terrain(f);
+    }
     for o in scene.world.obstacles() {
         d.obstacle(o);
     }
@@ -436,6 +446,41 @@ impl Drawer<'_> {
             let color = if y == 0.0 { palette::GRID_AXIS } else { palette::GRID };
             let py = self.px(DVec2::new(0.0, y)).y;
             self.p.line(DVec2::new(0.0, py), DVec2::new(w, py), color, THIN_PX);
+        }
+    }
+
+    fn terrain(&mut self, f: &crate::world::terrain::TerrainFeature) {
+        use crate::world::terrain::FeatureKind;
+        let fill = if f.kind == FeatureKind::Hole { palette::TERRAIN_HOLE } else { palette::TERRAIN_RAISED };
+        for part in f.parts() {
+            match part {
+                Shape::Polygon(poly) => {
+                    if let Some(pts) = self.px_all(poly.vertices()) {
+                        self.p.fill_polygon(&pts, fill);
+                    }
+                }
+                Shape::Circle { center, radius } => {
+                    let c = self.px(*center);
+                    let r = self.tf.length_to_pixels(*radius);
+                    if c.is_finite() && r.is_finite() {
+                        self.p.fill_circle(c, r, fill);
+                    }
+                }
+            }
+            self.shape_outline(part, palette::TERRAIN_EDGE, THIN_PX);
+        }
+        if let (FeatureKind::Stairs { treads, .. }, ObstacleShape::Box { center, width, height, yaw }) =
+            (f.kind, &f.shape)
+        {
+            let (ax, ay) = (DVec2::from_angle(*yaw), DVec2::from_angle(*yaw).perp());
+            for k in 1..treads.min(200) {
+                let s = -0.5 * width + width * k as f64 / treads as f64;
+                let (a, b) = (*center + ax * s - ay * 0.5 * height, *center + ax * s + ay * 0.5 * height);
+                let (a, b) = (self.px(a), self.px(b));
+                if a.is_finite() && b.is_finite() {
+                    self.p.line(a, b, palette::TERRAIN_EDGE, THIN_PX);
+                }
+            }
         }
     }
 

@@ -26,12 +26,15 @@ pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
                 radius: a.body.radius(),
                 trail: a.trail.clone(),
                 sectors,
-                footprints: a.body.animated().map_or_else(Vec::new, |b| {
-                    b.player()
+                // On uneven terrain: the footholds the footstep planner chose (seed 002 §4.2).
+                footprints: a.body.animated().map_or_else(Vec::new, |b| match b.footing() {
+                    Some(f) => f.footholds().iter().map(|h| (h.position, h.yaw)).collect(),
+                    None => b
+                        .player()
                         .footprints
                         .iter()
                         .map(|f| (DVec2::new(f.x, f.y) + DVec2::from_angle(f.yaw) * FOOT_CENTRE_AHEAD_M, f.yaw))
-                        .collect()
+                        .collect(),
                 }),
                 label: None,
             }

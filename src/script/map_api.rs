@@ -10,8 +10,20 @@
 //! m.convex([[0, 2], [1, 3], [2, 2]]);
 //! m.polygon([[6, -2], [9, -2], [9, 2], [8, 2], [8, -1], [6, -1]]);
 //! m.heights(0.0, 0.8);             // vertical extent of the obstacles added after this
+//! // Terrain (seed 002 §3.2), painted in order over flat ground at height 0:
+//! m.platform_box(12.0, 0.0, 2.0, 2.0, 0.0, 0.3);    // box as above, then its height (m)
+//! m.platform_cylinder(15.0, 0.0, 0.3, 0.1);         // centre x, y, radius, height (m)
+//! m.platform(0.2, [[0, -3], [1, -3], [1, -2]]);     // height, polygon outline
+//! m.hole_box(15.0, 0.0, 2.0, 2.0, 0.0);             // no ground inside (also hole_cylinder, hole)
+//! m.slope(18.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.5);      // box, then z0 at its −x side, z1 at +x
+//! m.stairs(21.0, 0.0, 2.0, 2.0, 0.0, 0.5, 0.0, 3);  // box, z0 before, z1 after, treads
+//! // The footstep planner of this map's characters (seed 002 §4.2; any subset of the keys):
+//! m.footsteps(#{ window_steps: 3, intervals: 13, step_min_m: 0.25, step_max_m: 0.9,
+//!                step_init_m: 0.65, max_step_up_m: 0.45, max_step_down_m: 0.5,
+//!                max_slope_deg: 30.0, foot_length_m: 0.24 });
 //! m
 //! ```
+//! Obstacles at most 0.45 m high (see `heights`) are ground to step onto or over.
 //! Each `start` opens a task; the next `goal` closes it. Angles are degrees. The script ends
 //! with the world; the core validates it.
 
@@ -24,7 +36,8 @@ use rhai::{Array, Dynamic, EvalAltResult};
 use crate::diagnostic::SourceError;
 use crate::scenario::Scenario;
 use crate::world::obstacle::DEFAULT_Z;
-use crate::world::{Obstacle, ObstacleShape, Pose, Task};
+use crate::world::terrain::{FeatureKind, TerrainFeature};
+use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain};
 
 type Res<T> = Result<T, Box<EvalAltResult>>;
 
@@ -34,6 +47,7 @@ struct MapState {
     pending_start: Option<Pose>,
     z: Option<(f64, f64)>,
     time_limit_s: Option<f64>,
+    features: Vec<TerrainFeature>,
 }
 
 /// A world under construction in a script.
@@ -74,11 +88,115 @@ impl MapHandle {
         }
         Ok(self.clone())
     }
+
+    fn feature(&self, shape: ObstacleShape, kind: FeatureKind) -> Res<MapHandle> {
+        let f = TerrainFeature::new(shape, kind).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        self.0.borrow_mut().features.push(f);
+        Ok(self.clone())
+    }
+}
+
+fn box_shape(x: &Dynamic, y: &Dynamic, w: &Dynamic, h: &Dynamic, yaw_deg: &Dynamic) -> Res<ObstacleShape> {
+    Ok(ObstacleShape::Box {
+        center: DVec2::new(num(x, "x")?, num(y, "y")?),
+        width: num(w, "width")?,
+        height: num(h, "height")?,
+        yaw: num(yaw_deg, "yaw")?.to_radians(),
+    })
+}
+
+fn cylinder(x: &Dynamic, y: &Dynamic, r: &Dynamic) -> Res<ObstacleShape> {
+    Ok(ObstacleShape::Cylinder { center: DVec2::new(num(x, "x")?, num(y, "y")?), radius: num(r, "radius")? })
+}
+
+/// Sets the footstep planner's parameters of the map's characters from a Rhai object map;
+/// unknown keys and invalid values are errors.
+fn footsteps(m: &mut MapHandle, fields: rhai::Map) -> Res<MapHandle> {
+    let mut st = m.0.borrow_mut();
+    let Some(scenario) = st.scenario.as_mut() else { return Ok(m.clone()) };
+    let mut p = scenario.footsteps;
+    for (key, value) in &fields {
+        let count = |v: &Dynamic| -> Res<usize> {
+            v.as_int().ok().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| -> Box<EvalAltResult> {
+                format!("footsteps: `{key}` must be a whole number ≥ 0").into()
+            })
+        };
+        match key.as_str() {
+            "window_steps" => p.window_steps = count(value)?,
+            "intervals" => p.intervals = count(value)?,
+            "step_min_m" => p.step_min_m = num(value, key)?,
+            "step_max_m" => p.step_max_m = num(value, key)?,
+            "step_init_m" => p.step_init_m = num(value, key)?,
+            "max_step_up_m" => p.max_step_up_m = num(value, key)?,
+            "max_step_down_m" => p.max_step_down_m = num(value, key)?,
+            "max_slope_deg" => p.max_slope_deg = num(value, key)?,
+            "foot_length_m" => {
+                // The heel keeps its share of the built-in foot (0.05 of 0.24 m).
+                let l = num(value, key)?;
+                let heel = p.leg.heel_back_m / p.leg.foot_length_m();
+                p.leg.heel_back_m = l * heel;
+                p.leg.toe_forward_m = l * (1.0 - heel);
+            }
+            other => {
+                return Err(format!(
+                    "footsteps: unknown parameter `{other}` (expected window_steps, intervals, step_min_m, step_max_m, \
+                     step_init_m, max_step_up_m, max_step_down_m, max_slope_deg or foot_length_m)"
+                )
+                .into());
+            }
+        }
+    }
+    p.validate().map_err(|e| -> Box<EvalAltResult> { format!("footsteps: {e}").into() })?;
+    scenario.footsteps = p;
+    Ok(m.clone())
+}
+
+/// Registers the terrain functions (see the [module docs](self)).
+fn register_terrain(engine: &mut rhai::Engine) {
+    type D = Dynamic;
+    engine.register_fn("footsteps", footsteps);
+    engine.register_fn("platform", |m: &mut MapHandle, z: D, pts: Array| -> Res<MapHandle> {
+        m.feature(
+            ObstacleShape::Polygon { outline: points(&pts, "platform")? },
+            FeatureKind::Platform { z_m: num(&z, "platform height")? },
+        )
+    });
+    engine.register_fn("platform_box", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Platform { z_m: num(&z, "platform height")? })
+    });
+    engine.register_fn("platform_cylinder", |m: &mut MapHandle, x: D, y: D, r: D, z: D| -> Res<MapHandle> {
+        m.feature(cylinder(&x, &y, &r)?, FeatureKind::Platform { z_m: num(&z, "platform height")? })
+    });
+    engine.register_fn("hole", |m: &mut MapHandle, pts: Array| -> Res<MapHandle> {
+        m.feature(ObstacleShape::Polygon { outline: points(&pts, "hole")? }, FeatureKind::Hole)
+    });
+    engine.register_fn("hole_box", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Hole)
+    });
+    engine.register_fn("hole_cylinder", |m: &mut MapHandle, x: D, y: D, r: D| -> Res<MapHandle> {
+        m.feature(cylinder(&x, &y, &r)?, FeatureKind::Hole)
+    });
+    engine.register_fn("slope", |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z0: D, z1: D| -> Res<MapHandle> {
+        m.feature(box_shape(&x, &y, &w, &h, &yaw)?, FeatureKind::Slope { z0_m: num(&z0, "z0")?, z1_m: num(&z1, "z1")? })
+    });
+    engine.register_fn(
+        "stairs",
+        |m: &mut MapHandle, x: D, y: D, w: D, h: D, yaw: D, z0: D, z1: D, treads: rhai::INT| -> Res<MapHandle> {
+            let treads = usize::try_from(treads).map_err(|_| -> Box<EvalAltResult> {
+                format!("stairs need a positive number of treads, found {treads}").into()
+            })?;
+            m.feature(
+                box_shape(&x, &y, &w, &h, &yaw)?,
+                FeatureKind::Stairs { z0_m: num(&z0, "z0")?, z1_m: num(&z1, "z1")?, treads },
+            )
+        },
+    );
 }
 
 /// Registers the world-building API on `engine`.
 pub fn register(engine: &mut rhai::Engine) {
     engine.register_type_with_name::<MapHandle>("World");
+    register_terrain(engine);
     engine.register_fn("world", |name: &str| {
         MapHandle(Rc::new(RefCell::new(MapState { scenario: Some(Scenario::new(name)), ..MapState::default() })))
     });
@@ -171,7 +289,8 @@ pub fn load_scenario(
     if st.pending_start.is_some() {
         return Err(SourceError::new(file, 0, 0, "the last start has no goal"));
     }
-    let scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+    let mut scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+    scenario.terrain = Terrain::from_features(std::mem::take(&mut st.features));
     scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
     Ok(scenario)
 }

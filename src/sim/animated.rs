@@ -24,6 +24,7 @@ use glam::DVec2;
 use rand_chacha::ChaCha8Rng;
 
 use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
+use super::footing::Footing;
 use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
 use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
 use crate::anim::{Database, Ground};
@@ -198,6 +199,10 @@ pub struct AnimatedBody {
     path: Vec<DVec2>,
     /// Command tracking so far.
     pub tracking: Tracking,
+    /// The feet on uneven terrain (none on flat ground: the database's steps play unchanged).
+    footing: Option<Box<Footing>>,
+    /// Switches of the player the footing has planned for.
+    footing_switches: u64,
 }
 
 /// The look-ahead chooser: ranks the candidates and takes the best one whose path is clear.
@@ -389,8 +394,23 @@ impl AnimatedBody {
             order: Vec::new(),
             path: Vec::new(),
             tracking: Tracking::default(),
+            footing: None,
+            footing_switches: 0,
             anim,
         }
+    }
+
+    /// Puts the character's feet on uneven terrain: from now on every step of a moving
+    /// interval is planned by `footing` (see [`super::footing`]).
+    pub fn set_footing(&mut self, mut footing: Footing) {
+        footing.decide(&self.anim.db, self.player.interval(), self.player.ground());
+        self.footing_switches = self.player.metrics.switches;
+        self.footing = Some(Box::new(footing));
+    }
+
+    /// The feet on uneven terrain, if any.
+    pub fn footing(&self) -> Option<&Footing> {
+        self.footing.as_deref()
     }
 
     /// The player (pose, footprints, playback metrics).
@@ -534,7 +554,22 @@ impl Body for AnimatedBody {
             };
             self.player.advance_frame(&anim.db, &mut chooser);
             self.held = chooser.held;
-            let now = self.player.ground();
+            let mut now = self.player.ground();
+            if let Some(f) = self.footing.as_deref_mut() {
+                if self.player.metrics.switches != self.footing_switches {
+                    self.footing_switches = self.player.metrics.switches;
+                    f.decide(&anim.db, self.player.interval(), prev);
+                }
+                // The adapted step: the interval's root translation scaled (held when stopped).
+                let k = f.scale();
+                if k != 1.0 {
+                    now = Ground { x: prev.x + (now.x - prev.x) * k, y: prev.y + (now.y - prev.y) * k, yaw: now.yaw };
+                    self.player.hold(&anim.db, now);
+                }
+                if f.stopped().is_some() {
+                    outcome.held = true;
+                }
+            }
             let to = DVec2::new(now.x, now.y);
             let from = DVec2::new(prev.x, prev.y);
             if to != from && !is_free(space, to, self.radius) {
@@ -545,7 +580,7 @@ impl Body for AnimatedBody {
                 outcome.moved_m += from.distance(to);
             }
         }
-        outcome.held = self.held && speed >= HELD_SPEED_MPS;
+        outcome.held = (self.held || outcome.held) && speed >= HELD_SPEED_MPS;
         self.held_s = if self.held { self.held_s + dt } else { 0.0 };
         self.speed = outcome.moved_m / dt;
         // Tracking: the commanded unicycle from the root at the last switch point.

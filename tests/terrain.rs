@@ -1,0 +1,244 @@
+//! Terrain in maps (seed 002 §3.2): the text and Rhai map formats, the ground profile along a
+//! path, and the animated character walking over the shipped terrain scenes.
+
+use glam::DVec2;
+use strider::maps::text;
+use strider::script::{Limits, ScriptLog, map_api};
+use strider::world::terrain::FeatureKind;
+
+const TERRAIN_TEXT: &str = "\
+start 0 0
+goal 20 0
+platform 0.3 box 3 0 1 2
+hole cyl 6 0 0.5
+slope 0 0.4 9 0 2 2 0.1
+stairs 0.4 0 3 12 0 3 2
+platform 0.1 poly 14 -1 15 -1 15 1 14 1
+z_extent 0 0.2
+box 17 0 0.5 2
+";
+
+#[test]
+fn text_worlds_carry_terrain_and_write_it_back() {
+    let s = text::parse(TERRAIN_TEXT, "t.txt").unwrap();
+    let kinds: Vec<FeatureKind> = s.terrain.features().iter().map(|f| f.kind).collect();
+    assert_eq!(kinds.len(), 5);
+    assert_eq!(kinds[0], FeatureKind::Platform { z_m: 0.3 });
+    assert_eq!(kinds[1], FeatureKind::Hole);
+    assert_eq!(kinds[3], FeatureKind::Stairs { z0_m: 0.4, z1_m: 0.0, treads: 3 });
+    let back = text::parse(&text::write(&s), "t.txt").unwrap();
+    assert_eq!(back.terrain, s.terrain);
+    assert_eq!(back.obstacles, s.obstacles);
+    // The low box is ground in the world, not a wall.
+    let w = s.world();
+    assert!(w.obstacles().is_empty());
+    assert_eq!(w.terrain.ground(DVec2::new(17.0, 0.0)), Some(0.2));
+    assert_eq!(w.terrain.ground(DVec2::new(6.0, 0.0)), None);
+    assert!((w.terrain.height(DVec2::new(9.0, 0.0)) - 0.2).abs() < 1e-12);
+}
+
+#[test]
+fn bad_terrain_lines_are_located() {
+    let cases = [
+        ("start 0 0\ngoal 5 0\nplatform 0.2\n", (3, 13), "needs a shape"),
+        ("start 0 0\ngoal 5 0\nplatform x box 1 1 1 1\n", (3, 10), "expected a number"),
+        ("start 0 0\ngoal 5 0\nhole tri 1 1 1\n", (3, 6), "expected a shape"),
+        ("start 0 0\ngoal 5 0\nstairs 0 1 2.5 3 0 1 1\n", (3, 12), "whole number of treads"),
+        ("start 0 0\ngoal 5 0\nstairs 0 1 0 3 0 1 1\n", (3, 12), "whole number of treads"),
+        ("start 0 0\ngoal 5 0\nslope 0 1 3 0 -1 1\n", (3, 15), "box width must be positive"),
+        ("start 0 0\ngoal 5 0\nslope 0 1 3 0 1\n", (3, 16), "needs at least 6"),
+        ("start 0 0\ngoal 5 0\nhole box 1 1 0 1\n", (3, 14), "box width"),
+    ];
+    for (src, at, needle) in cases {
+        let e = text::parse(src, "w.txt").expect_err(needle);
+        assert_eq!((e.line, e.col), at, "{needle}: {e}");
+        assert!(e.message.contains(needle), "{needle}: {e}");
+    }
+}
+
+#[test]
+fn rhai_maps_carry_terrain() {
+    let src = r#"
+        let m = world("t");
+        m.start(0.0, 0.0, 0.0);
+        m.goal(10.0, 0.0, 0.5);
+        m.platform_box(3.0, 0.0, 1.0, 2.0, 0.0, 0.3);
+        m.hole_cylinder(6.0, 0.0, 0.5);
+        m.slope(8.0, 0.0, 2.0, 2.0, 0.0, 0.0, 0.4);
+        m.stairs(11.0, 0.0, 3.0, 2.0, 0.0, 0.4, 0.0, 3);
+        m.platform(0.1, [[14, -1], [15, -1], [15, 1]]);
+        m.hole_box(16.0, 0.0, 1.0, 1.0, 0.0);
+        m.platform_cylinder(16.0, 0.0, 0.2, 0.05);
+        m.hole([[18, -1], [19, -1], [19, 1]]);
+        m
+    "#;
+    let s = map_api::load_scenario(src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+    assert_eq!(s.terrain.features().len(), 8);
+    assert_eq!(s.world().terrain.ground(DVec2::new(16.0, 0.0)), Some(0.05));
+    let bad = r#"
+        let m = world("t");
+        m.start(0.0, 0.0, 0.0);
+        m.goal(10.0, 0.0, 0.5);
+        m.stairs(11.0, 0.0, 3.0, 2.0, 0.0, 0.4, 0.0, 0);
+        m
+    "#;
+    let e = map_api::load_scenario(bad, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+    assert_eq!(e.line, 5, "{e}");
+    assert!(e.message.contains("treads"), "{e}");
+}
+
+#[test]
+fn footstep_parameters_come_from_the_map_script() {
+    let base = "let m = world(\"t\");\nm.start(0.0, 0.0, 0.0);\nm.goal(10.0, 0.0, 0.5);\n";
+    let ok = format!("{base}m.footsteps(#{{ window_steps: 2, intervals: 8, step_max_m: 0.8 }});\nm\n");
+    let s = map_api::load_scenario(&ok, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+    assert_eq!((s.footsteps.window_steps, s.footsteps.intervals, s.footsteps.step_max_m), (2, 8, 0.8));
+    assert_eq!(s.world().footsteps, s.footsteps);
+    for (bad, needle) in [
+        ("#{ intervals: 0 }", "intervals = 0"),
+        ("#{ window_steps: 0 }", "window_steps = 0"),
+        ("#{ step_min_m: 0.9, step_max_m: 0.3, step_init_m: 0.5 }", "inverted step limits"),
+        ("#{ stride: 1.0 }", "unknown parameter `stride`"),
+    ] {
+        let src = format!("{base}m.footsteps({bad});\nm\n");
+        let e = map_api::load_scenario(&src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+        assert_eq!(e.line, 4, "{e}");
+        assert!(e.message.contains(needle), "{needle}: {e}");
+    }
+}
+
+#[test]
+fn the_profile_along_a_path_is_the_terrain_under_it() {
+    let s = text::parse(TERRAIN_TEXT, "t.txt").unwrap();
+    let w = s.world();
+    let p = w.terrain.profile(DVec2::ZERO, DVec2::X, -1.0, 20.0).unwrap();
+    // Every piece's height is the terrain's at its points, and gaps are holes.
+    for x in (0..2100).map(|i| -1.0 + i as f64 * 0.01) {
+        let here = w.terrain.ground(DVec2::new(x, 0.0));
+        let on = p.height_at(x);
+        let same = match (here, on) {
+            (Some(a), Some(b)) => (a - b).abs() < 1e-9,
+            (a, b) => a == b,
+        };
+        // At an edge (a vertical step, the rim of a hole) the two may take either side.
+        let edge = p.pieces().iter().any(|q| (q.x0_m - x).abs() < 1e-6 || (q.x1_m - x).abs() < 1e-6);
+        assert!(same || edge, "x = {x}: terrain {here:?}, profile {on:?}");
+    }
+}
+
+mod character {
+    use std::sync::Arc;
+
+    use strider::experiment::run_episode;
+    use strider::scenario::Scenario;
+    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
+
+    fn params() -> StepParameters {
+        let db = strider::builtin::database().unwrap();
+        let policy = strider::builtin::policy(&db).unwrap();
+        StepParameters {
+            animation: Some(AnimationHandle(Arc::new(Animation::new(db, policy)))),
+            ..StepParameters::default()
+        }
+    }
+
+    fn controller() -> LayeredController {
+        let engines = fuzzy_api::load_engines(
+            include_str!("../scripts/nav.rhai"),
+            "nav.rhai",
+            Limits::default(),
+            &ScriptLog::new(),
+        )
+        .unwrap();
+        LayeredController::new(&engines, ControllerParams::default()).unwrap()
+    }
+
+    fn map(src: &str, name: &str) -> Scenario {
+        map_api::load_scenario(src, name, Limits::default(), &ScriptLog::new()).unwrap()
+    }
+
+    const SCENES: [(&str, &str, f64); 4] = [
+        ("terrain_stairs.rhai", include_str!("../maps/terrain_stairs.rhai"), 8.4),
+        ("terrain_slope.rhai", include_str!("../maps/terrain_slope.rhai"), 11.0),
+        ("terrain_stepping_stones.rhai", include_str!("../maps/terrain_stepping_stones.rhai"), 6.0),
+        ("terrain_fig8_trap.rhai", include_str!("../maps/terrain_fig8_trap.rhai"), 3.6),
+    ];
+
+    /// The bar of issue 11: the character crosses every shipped terrain scene with zero
+    /// collisions and zero invalid footholds, deterministically.
+    #[test]
+    fn the_character_crosses_every_shipped_terrain_scene() {
+        let (p, c) = (params(), controller());
+        for (name, src, beyond_m) in SCENES {
+            let s = map(src, name);
+            let w = s.world();
+            assert!(!w.terrain.is_flat(), "{name}");
+            let e = run_episode(&s, &w, 0, &c, &p, 0, 1);
+            let r = &e.record;
+            assert!(r.reached, "{name}: {r:?}");
+            assert_eq!(r.collisions, 0, "{name}");
+            assert_eq!(r.invalid_footholds, Some(0), "{name}");
+            assert!(r.footsteps_planned.unwrap() >= 8, "{name}: {r:?}");
+            assert!(e.trail.iter().any(|q| q.x > beyond_m), "{name}: crossed the terrain");
+            assert_eq!(run_episode(&s, &w, 0, &c, &p, 0, 1).trail, e.trail, "{name}: deterministic");
+        }
+    }
+
+    #[test]
+    fn footholds_land_on_the_stones_and_the_pelvis_follows_the_stairs() {
+        let (p, c) = (params(), controller());
+        for (name, src, _) in [SCENES[0], SCENES[2]] {
+            let s = map(src, name);
+            let mut sim = Simulation::new(s.world(), p.clone());
+            sim.add_agent(s.tasks[0], &c);
+            let mut highest: f64 = 0.0;
+            while !sim.all_done() {
+                sim.step();
+                let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+                highest = highest.max(f.ground_height_m(0.5));
+            }
+            let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+            for h in f.footholds() {
+                let z = sim.world.terrain.ground(h.position);
+                assert!(z.is_some_and(|z| (z - h.z_m).abs() < 1e-6), "{name}: {h:?} over {z:?}");
+            }
+            if name.contains("stairs") {
+                assert!((highest - 0.6).abs() < 0.05, "the pelvis climbs to the landing: {highest}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_gap_too_wide_stops_the_character_with_a_reason() {
+        let src = r#"
+            let m = world("wide_gap");
+            m.start(0.0, 0.0, 0.0);
+            m.goal(8.0, 0.0, 0.5);
+            m.time_limit(15.0);
+            m.hole_box(4.0, 0.0, 1.5, 40.0, 0.0);
+            m
+        "#;
+        let s = map(src, "wide_gap.rhai");
+        let mut sim = Simulation::new(s.world(), params());
+        sim.add_agent(s.tasks[0], &controller());
+        while !sim.all_done() {
+            sim.step();
+        }
+        let body = sim.agents[0].body.animated().unwrap();
+        let f = body.footing().unwrap();
+        assert_eq!(f.invalid_footholds(), 0);
+        assert!(f.footholds().iter().all(|h| h.position.x < 3.25 || h.position.x > 4.75), "{:?}", f.footholds());
+        let reason = f.stopped().expect("stopped");
+        assert!(reason.contains("no sequence of steps"), "{reason}");
+        assert!(sim.agents[0].outcome != Some(strider::sim::Outcome::Reached));
+    }
+
+    #[test]
+    fn flat_worlds_have_no_footing() {
+        let s = map(include_str!("../maps/open_field.rhai"), "open_field.rhai");
+        let e = run_episode(&s, &s.world(), 0, &controller(), &params(), 0, 1);
+        assert_eq!(e.record.invalid_footholds, None);
+        assert_eq!(e.record.footstep_planning_ms_p99, None);
+    }
+}
