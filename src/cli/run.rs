@@ -307,7 +307,7 @@ mod tests {
         let csv = String::from_utf8(csv).unwrap();
         let mut lines = csv.lines();
         let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        assert_eq!(header.len(), 26);
+        assert_eq!(header.len(), 29);
         header.sort();
         let mut keys = keys;
         keys.sort();
@@ -318,6 +318,6 @@ mod tests {
         let rows: Vec<&str> = lines.collect();
         assert_eq!(rows.len(), 2);
         assert!(rows[0].starts_with("3,\"a, \"\"b\"\"\",1,9,true,0,12.5,20,19,,0.25,250,2,1,0.1,"), "{}", rows[0]);
-        assert!(rows[1].ends_with(",,,,,,,,,,,,"), "{}", rows[1]);
+        assert!(rows[1].ends_with(",,,,,,,,,,,,,,,"), "{}", rows[1]);
     }
 }
