@@ -133,6 +133,8 @@ fn several_agents_share_a_world() {
 fn run_command_prints_json_and_csv() {
     let o = strider(&["run", "maps/u_trap.rhai", "--format", "json"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The batch's throughput goes to stderr, never into the data.
+    assert!(String::from_utf8_lossy(&o.stderr).contains("agent-steps/s"), "{}", String::from_utf8_lossy(&o.stderr));
     let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let e = &doc["episodes"][0];
     for key in ["reached", "collisions", "time_s", "path_length_m", "optimal_length_m", "min_clearance_m", "seed"] {

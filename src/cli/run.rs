@@ -127,11 +127,21 @@ pub fn run(args: RunArgs) -> Outcome {
         .map_err(|e| anyhow!("cannot start worker threads: {e}"))?;
     let seed = args.map.seed;
     let make = |i: usize| job(&source, i, seed);
+    let clock = std::time::Instant::now();
     let records = pool.install(|| experiment::run_batch_of(count, &make, &controller, &params, &progress));
+    let elapsed = clock.elapsed().as_secs_f64();
     if let Some(b) = bar {
         b.finish_and_clear();
     }
     let summary = experiment::summarize(&records);
+    // The whole batch's throughput (worlds, optima and episodes), for the user on stderr.
+    let steps: u64 = records.iter().map(|r| u64::from(r.steps)).sum();
+    eprintln!(
+        "{} episodes, {steps} agent-steps in {elapsed:.2} s: {:.0} agent-steps/s on {} thread(s)",
+        records.len(),
+        steps as f64 / elapsed.max(1e-9),
+        pool.current_num_threads()
+    );
     let mut out = BufWriter::new(io::stdout().lock());
     write_records(&mut out, args.format, &summary, &records)?;
     out.flush()?;
