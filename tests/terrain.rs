@@ -210,6 +210,44 @@ mod character {
     }
 
     #[test]
+    fn the_side_view_unrolls_every_step_along_the_path() {
+        use strider::render::side_view::render_side_view;
+        use strider::render::sim_view::SideRecorder;
+        let (p, c) = (params(), controller());
+        let (name, src, _) = SCENES[0];
+        let s = map(src, name);
+        let mut sim = Simulation::new(s.world(), p);
+        sim.add_agent(s.tasks[0], &c);
+        let mut side = SideRecorder::default();
+        while !sim.all_done() {
+            sim.step();
+            side.observe(sim.agents[0].body.animated().unwrap().footing().unwrap());
+        }
+        let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+        let view = side.view(0.24, 4);
+        // Every foothold taken, in order, at the heights the terrain has there, spaced as walked.
+        assert_eq!(side.len() + 2, f.footholds().len(), "{name}");
+        assert_eq!(view.footholds.len(), f.footholds().len());
+        for (k, (drawn, taken)) in view.footholds.iter().zip(f.footholds()).enumerate() {
+            assert_eq!(drawn.foot, taken.foot);
+            assert!((drawn.sole.z_m - taken.z_m).abs() < 1e-9, "foothold {k}");
+        }
+        for w in view.footholds[1..].windows(2) {
+            assert!(w[1].sole.x_m > w[0].sole.x_m);
+        }
+        // The ground pieces follow each other and hold every foothold.
+        for w in view.ground.windows(2) {
+            assert!(w[1].x0_m >= w[0].x1_m - 1e-9);
+        }
+        for h in &view.footholds {
+            assert!(view.ground.iter().any(|g| g.x0_m <= h.sole.x_m && h.sole.x_m <= g.x1_m));
+        }
+        assert_eq!(view.legs.len(), 4 * side.len() + 1);
+        let (pm, _) = render_side_view(&view);
+        assert!(pm.width() > pm.height());
+    }
+
+    #[test]
     fn a_gap_too_wide_stops_the_character_with_a_reason() {
         let src = r#"
             let m = world("wide_gap");
