@@ -564,7 +564,7 @@ fn a_closed_pipe_is_not_an_error() {
 }
 
 #[test]
-fn side_views_from_the_command_line() {
+fn side_views_and_motion_files_from_the_command_line() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("side_views");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -586,10 +586,12 @@ fn side_views_from_the_command_line() {
     for args in [
         vec!["render", "maps/terrain_fig8_trap.rhai", "--out", refused.to_str().unwrap(), "--side", "--body", "disc"],
         vec!["render", "maps/sparse.rhai", "--out", refused.to_str().unwrap(), "--side"],
+        vec!["run", "maps/terrain_fig8_trap.rhai", "--bvh-out", refused.to_str().unwrap(), "--body", "disc"],
     ] {
         let o = strider(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(String::from_utf8_lossy(&o.stderr).contains("--side"), "{}", String::from_utf8_lossy(&o.stderr));
+        let flag = if args[0] == "run" { "--bvh-out" } else { "--side" };
+        assert!(String::from_utf8_lossy(&o.stderr).contains(flag), "{}", String::from_utf8_lossy(&o.stderr));
         assert!(!refused.exists(), "{args:?} wrote nothing");
     }
 }
