@@ -221,6 +221,9 @@ pub struct Episode {
     pub record: EpisodeRecord,
     /// Agent positions after every step.
     pub trail: Vec<glam::DVec2>,
+    /// Every frame the animated character played, when [`StepParameters::record_motion`] is
+    /// set (see [`crate::sim::AnimatedBody::motion`]); empty otherwise.
+    pub motion: Vec<crate::anim::Pose>,
 }
 
 /// Runs task `task_index` of `scenario` (in `world`, the scenario's world) to completion.
@@ -300,7 +303,8 @@ pub fn run_episode_with(
         footsteps_planned: footing.map(|f| f.plans()),
         footstep_planning_ms_p99: footing.and_then(|f| p99(f.planning_times_s())).map(|s| s * 1e3),
     };
-    Episode { record, trail: agent.trail.clone() }
+    let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
+    Episode { record, trail: agent.trail.clone(), motion }
 }
 
 /// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,
@@ -350,6 +354,19 @@ pub fn run_batch_of(
     params: &StepParameters,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EpisodeRecord> {
+    run_batch_each(count, job, controller, params, progress, &|_| {})
+}
+
+/// [`run_batch_of`], handing each finished episode (its record, trail and recorded motion) to
+/// `each`, from worker threads, before keeping its record.
+pub fn run_batch_each(
+    count: usize,
+    job: &(dyn Fn(usize) -> Job + Sync),
+    controller: &LayeredController,
+    params: &StepParameters,
+    progress: &(dyn Fn() + Sync),
+    each: &(dyn Fn(&Episode) + Sync),
+) -> Vec<EpisodeRecord> {
     // A scenario with several tasks is usually run once per task: its optimal-path planner is
     // built once, by the first episode that needs it, and shared.
     type Slot = Arc<OnceLock<Option<plan::Planner>>>;
@@ -377,6 +394,7 @@ pub fn run_batch_of(
             let planner =
                 slot.as_ref().and_then(|s| s.get_or_init(|| plan::Planner::new(&world, p.limits.radius)).as_ref());
             let e = run_episode_with(&job.scenario, &world, planner, job.task, controller, &p, i, job.seed);
+            each(&e);
             progress();
             e.record
         })

@@ -11,4 +11,5 @@ pub mod plot;
 pub mod png;
 pub mod poses;
 pub mod scene;
+pub mod side_view;
 pub mod sim_view;

@@ -45,6 +45,9 @@ pub struct StepParameters {
     /// A clock lent by a front-end to time footstep planning on uneven terrain (none: not
     /// timed). Only the timing figures read it; the motion never does.
     pub stopwatch: Option<footing::StopwatchHandle>,
+    /// Whether animated characters record every frame they play ([`AnimatedBody::motion`];
+    /// false). Recording never changes the motion.
+    pub record_motion: bool,
 }
 
 impl Default for StepParameters {
@@ -58,6 +61,7 @@ impl Default for StepParameters {
             memory: MemoryParams::default(),
             animation: None,
             stopwatch: None,
+            record_motion: false,
         }
     }
 }
@@ -261,6 +265,9 @@ impl Simulation {
                         at,
                         self.params.stopwatch.clone(),
                     ));
+                }
+                if self.params.record_motion {
+                    body.record_motion();
                 }
                 AgentBody::Animated(Box::new(body))
             }

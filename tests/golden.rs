@@ -16,6 +16,7 @@ use glam::DVec2;
 use strider::geom::Aabb;
 use strider::render::png::render_png;
 use strider::render::scene::{AgentView, Scene};
+use strider::render::side_view::SideTransform;
 use strider::snapshot::{self, Tolerance};
 use strider::world::{Obstacle, ObstacleShape, SectorLayout, Sensed, World};
 use tiny_skia::Pixmap;
@@ -216,4 +217,60 @@ fn animated_character_footprints_and_poses() {
     let mut painter = PngPainter::new(800, 240);
     draw_strip(&strip, &mut painter);
     assert_matches_golden("animated_poses", painter.pixmap());
+}
+
+/// The side view of a walk over `maps/profiles/fig8_trap.profile`, with the planner on or off.
+fn fig8_side_view(mode: strider::footstep::PlannerMode) -> (strider::footstep::Walk, Pixmap, SideTransform) {
+    use strider::footstep::{FootstepParams, profile, walk};
+    use strider::render::side_view::{SideView, render_side_view};
+    let course = profile::parse(include_str!("../maps/profiles/fig8_trap.profile"), "fig8_trap.profile").unwrap();
+    let params = FootstepParams::default();
+    let w = walk(&course, params, mode).unwrap();
+    let mut view = SideView::of_walk(course.ground.pieces(), &w.footholds, &w.steps, 4);
+    view.foot_length_m = params.leg.foot_length_m();
+    view.goal_m = Some(course.goal_m);
+    view.stopped = !w.reached();
+    view.caption = Some(format!("fig8 trap: {mode:?}"));
+    let (pixmap, t) = render_side_view(&view);
+    (w, pixmap, t)
+}
+
+/// Pixels in the columns of profile X range `[x0, x1]`, above the ground line, of one of the
+/// leg colours.
+fn foot_coloured_pixels(pm: &Pixmap, t: &SideTransform, x0: f64, x1: f64) -> usize {
+    use strider::render::side_view::{LEFT, RIGHT};
+    let (c0, c1) = (t.to_pixel(DVec2::new(x0, 0.0)).x as u32, t.to_pixel(DVec2::new(x1, 0.0)).x as u32);
+    let mut n = 0;
+    for x in c0..c1.min(pm.width()) {
+        for y in 0..pm.height() {
+            let c = pm.pixel(x, y).unwrap().demultiply();
+            if [LEFT, RIGHT].iter().any(|k| (c.red(), c.green(), c.blue()) == (k.r, k.g, k.b)) {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+#[test]
+fn side_view_of_the_fig8_trap_shows_both_outcomes() {
+    use strider::footstep::PlannerMode;
+    // Fig 8 (a): the nominal step walks into the trap and stops before the gap (3.0–3.6 m).
+    let (off, off_png, off_t) = fig8_side_view(PlannerMode::Nominal);
+    assert!(!off.reached());
+    assert!(off.footholds.iter().all(|f| f.sole.x_m < 3.0));
+    assert_eq!(foot_coloured_pixels(&off_png, &off_t, 3.6, 6.5), 0, "nothing drawn beyond the gap");
+    assert!(foot_coloured_pixels(&off_png, &off_t, 0.0, 3.0) > 200);
+    // The stop is marked with a vermillion cross over the last foothold.
+    let last = off.footholds.last().unwrap().sole;
+    let cross = off_t.to_pixel(DVec2::new(last.x_m + 0.12, last.z_m + 0.25));
+    let c = off_png.pixel(cross.x as u32, cross.y as u32).unwrap().demultiply();
+    assert_eq!((c.red(), c.green(), c.blue()), (213, 94, 0));
+    // Fig 8 (b): the planner shortens the steps before the gap and crosses it.
+    let (on, on_png, on_t) = fig8_side_view(PlannerMode::Window);
+    assert!(on.reached());
+    assert!(on.footholds.iter().any(|f| f.sole.x_m > 3.6));
+    assert!(foot_coloured_pixels(&on_png, &on_t, 3.6, 6.5) > 200, "footholds and legs beyond the gap");
+    assert_matches_golden("side_fig8_planner_off", &off_png);
+    assert_matches_golden("side_fig8_planner_on", &on_png);
 }

@@ -562,3 +562,36 @@ fn a_closed_pipe_is_not_an_error() {
     assert!(status.success(), "{status}: {err}");
     assert!(err.is_empty(), "{err}");
 }
+
+#[test]
+fn side_views_and_motion_files_from_the_command_line() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("side_views");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("trap_off.png");
+    let off =
+        strider(&["steps", "maps/profiles/fig8_trap.profile", "--planner", "off", "--png", png.to_str().unwrap()]);
+    assert_eq!(off.status.code(), Some(1), "{}", String::from_utf8_lossy(&off.stderr));
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+
+    let out = dir.join("render");
+    let r =
+        strider(&["render", "maps/terrain_fig8_trap.rhai", "--out", out.to_str().unwrap(), "--every", "0", "--side"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(&std::fs::read(out.join("side.png")).unwrap()[1..4], b"PNG");
+    assert!(out.join("final.png").exists());
+
+    // Refused before any work: with the disc body, and on a flat map.
+    let refused = dir.join("refused");
+    for args in [
+        vec!["render", "maps/terrain_fig8_trap.rhai", "--out", refused.to_str().unwrap(), "--side", "--body", "disc"],
+        vec!["render", "maps/sparse.rhai", "--out", refused.to_str().unwrap(), "--side"],
+        vec!["run", "maps/terrain_fig8_trap.rhai", "--bvh-out", refused.to_str().unwrap(), "--body", "disc"],
+    ] {
+        let o = strider(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let flag = if args[0] == "run" { "--bvh-out" } else { "--side" };
+        assert!(String::from_utf8_lossy(&o.stderr).contains(flag), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(!refused.exists(), "{args:?} wrote nothing");
+    }
+}

@@ -210,6 +210,84 @@ mod character {
     }
 
     #[test]
+    fn the_side_view_unrolls_every_step_along_the_path() {
+        use strider::render::side_view::render_side_view;
+        use strider::render::sim_view::SideRecorder;
+        let (p, c) = (params(), controller());
+        let (name, src, _) = SCENES[0];
+        let s = map(src, name);
+        let mut sim = Simulation::new(s.world(), p);
+        sim.add_agent(s.tasks[0], &c);
+        let mut side = SideRecorder::default();
+        while !sim.all_done() {
+            sim.step();
+            side.observe(sim.agents[0].body.animated().unwrap().footing().unwrap());
+        }
+        let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+        let view = side.view(0.24, 4);
+        // Every foothold taken, in order, at the heights the terrain has there, spaced as walked.
+        assert_eq!(side.len() + 2, f.footholds().len(), "{name}");
+        assert_eq!(view.footholds.len(), f.footholds().len());
+        for (k, (drawn, taken)) in view.footholds.iter().zip(f.footholds()).enumerate() {
+            assert_eq!(drawn.foot, taken.foot);
+            assert!((drawn.sole.z_m - taken.z_m).abs() < 1e-9, "foothold {k}");
+        }
+        for w in view.footholds[1..].windows(2) {
+            assert!(w[1].sole.x_m > w[0].sole.x_m);
+        }
+        // The ground pieces follow each other and hold every foothold.
+        for w in view.ground.windows(2) {
+            assert!(w[1].x0_m >= w[0].x1_m - 1e-9);
+        }
+        for h in &view.footholds {
+            assert!(view.ground.iter().any(|g| g.x0_m <= h.sole.x_m && h.sole.x_m <= g.x1_m));
+        }
+        assert_eq!(view.legs.len(), 4 * side.len() + 1);
+        let (pm, _) = render_side_view(&view);
+        assert!(pm.width() > pm.height());
+    }
+
+    /// `strider run --bvh-out`: the file read back with the project's BVH parser holds one
+    /// frame at the start and one per 1/60 s played, the root at the world position of the
+    /// episode's trail, the pelvis on the landing of the stairs.
+    #[test]
+    fn the_exported_motion_follows_the_episode() {
+        use strider::anim::bvh::{self, BvhOptions};
+        let (name, src, _) = SCENES[0];
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bvh_out");
+        let _ = std::fs::remove_dir_all(&dir);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+            .args(["run", &format!("maps/{name}"), "--bvh-out", dir.to_str().unwrap()])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = std::fs::read_to_string(dir.join("episode_0.bvh")).unwrap();
+        assert!(text.contains("ROOT Hips\n{\n\tOFFSET 0 0 0\n"), "root offset 0 0 0");
+        let file = bvh::parse(&text, "episode_0.bvh", "episode_0", &BvhOptions::default()).unwrap();
+        let clip = &file.clip;
+        assert!((clip.frame_time - 1.0 / 60.0).abs() < 1e-12, "{}", clip.frame_time);
+        // The same episode through the library (deterministic): its trail, step by step.
+        let s = map(src, name);
+        let mut p = params();
+        p.limits.radius = s.agent_radius;
+        let e = run_episode(&s, &s.world(), 0, &controller(), &p, 0, 1);
+        let steps = e.record.steps as usize;
+        let per_step = (p.dt_s * 60.0 + 1e-9).floor() as usize;
+        assert_eq!(clip.frames.len(), 1 + per_step * steps);
+        assert_eq!(e.trail.len(), steps + 1);
+        let mut highest: f64 = 0.0;
+        for (k, at) in e.trail.iter().enumerate() {
+            let root = clip.frames[per_step * k].root;
+            assert!(glam::DVec2::new(root.x, root.y).distance(*at) < 1e-6, "step {k}: root {root} vs trail {at}");
+            highest = highest.max(root.z);
+        }
+        // The pelvis climbs with the stairs to the 0.6 m landing (about 0.95 m above it).
+        assert!((highest - 1.55).abs() < 0.1, "highest pelvis {highest}");
+        assert!((clip.frames[0].root.z - 0.95).abs() < 0.05);
+    }
+
+    #[test]
     fn a_gap_too_wide_stops_the_character_with_a_reason() {
         let src = r#"
             let m = world("wide_gap");

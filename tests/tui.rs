@@ -175,3 +175,58 @@ fn same_run_as_headless() {
     let e = strider::experiment::run_episode(&app.scenario, &world, 0, &app.controller, &params, 0, 0);
     assert_eq!(app.sim.agents[0].trail, e.trail);
 }
+
+#[test]
+fn a_character_on_terrain_shows_its_footstep_window() {
+    use std::sync::Arc;
+    use strider::anim::policy::Policy;
+    use strider::builtin::{self, DEFAULT_POLICY};
+    use strider::sim::{Animation, AnimationHandle};
+    let db = builtin::database().unwrap();
+    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
+    let animation = Some(AnimationHandle(Arc::new(Animation::new(db, policy))));
+    let config = Config { map: MapSpec::file("maps/terrain_fig8_trap.rhai"), rules: None, seed: 1, animation };
+    let mut app = App::load(config).unwrap();
+    // Walk until a few steps have been planned and one is playing.
+    let planned = |app: &App| {
+        let f = app.sim.agents[0].body.animated().unwrap().footing().unwrap();
+        f.played().is_some() && f.plans() >= 3
+    };
+    for _ in 0..2000 {
+        if planned(&app) {
+            break;
+        }
+        app.sim.step();
+    }
+    assert!(planned(&app));
+    let f = app.sim.agents[0].body.animated().unwrap().footing().unwrap();
+    let n = f.params().window_steps;
+    let rows = screen(&mut app, 120, 40);
+    let title = rows.iter().position(|r| r.contains("Footsteps · n = 3")).expect("the footstep panel");
+    let panel: Vec<Vec<char>> = rows[title + 1..title + 8].iter().map(|r| r.chars().collect()).collect();
+    let side_x = 120 - 48; // the side column: two fifths of the width
+    // The supporting foot and each planned foothold stand on the ground, left to right.
+    let mut columns = Vec::new();
+    for mark in
+        std::iter::once('L').chain(std::iter::once('R')).chain((1..=n).map(|k| char::from_digit(k as u32, 10).unwrap()))
+    {
+        for (y, row) in panel.iter().enumerate().take(6) {
+            for (x, &c) in row.iter().enumerate().skip(side_x) {
+                if c == mark {
+                    assert_eq!(
+                        panel[y + 1][x],
+                        '█',
+                        "{mark} stands on the ground:\n{}",
+                        rows[title..title + 8].join("\n")
+                    );
+                    if mark.is_ascii_digit() {
+                        columns.push(x);
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(columns.len(), n, "{}", rows[title..title + 8].join("\n"));
+    assert!(columns.windows(2).all(|w| w[0] < w[1]), "{columns:?}");
+    assert!(panel[6].iter().collect::<String>().contains("steps "));
+}

@@ -11,7 +11,8 @@ use super::run::{MapArgs, job, load_controller, load_map_args};
 use super::{Outcome, parse_size, write_atomic};
 use crate::render::png::{PngPainter, encode, render_png};
 use crate::render::poses::draw_strip;
-use crate::render::sim_view::{scene_of, strip_pose_of};
+use crate::render::side_view::render_side_view;
+use crate::render::sim_view::{SideRecorder, scene_of, strip_pose_of};
 use crate::sim::{Body, Simulation, StepParameters};
 
 /// `strider render` options.
@@ -39,7 +40,15 @@ pub struct RenderArgs {
     /// every 0.25 s over the first 16 samples.
     #[arg(long)]
     pub poses: bool,
+    /// Also write `side.png`: the side view of the character's legs on the ground profile
+    /// (seed 002 Fig 6, Fig 8) through every step it took, unrolled along its path. Needs the
+    /// animated character and a map with uneven terrain.
+    #[arg(long)]
+    pub side: bool,
 }
+
+/// Leg poses per step in the side view.
+const SIDE_POSES_PER_STEP: usize = 4;
 
 /// Poses in the side-view strip.
 const POSES: usize = 16;
@@ -52,9 +61,22 @@ pub fn render(args: RenderArgs) -> Outcome {
             anyhow!("--poses draws the animated character's skeleton; it cannot be used with --body disc").into()
         );
     }
+    if args.side && args.body.body == super::anim::BodyKind::Disc {
+        return Err(anyhow!(
+            "--side draws the animated character's legs on the terrain; it cannot be used with --body disc"
+        )
+        .into());
+    }
     let source = load_map_args(&args.map)?;
     let controller = load_controller(args.map.rules.as_deref())?;
     let job = job(&source, args.episode, args.map.seed);
+    if args.side && job.scenario.terrain.is_flat() {
+        return Err(anyhow!(
+            "--side draws the legs on uneven terrain, and {} is flat (no footsteps are planned there)",
+            job.scenario.name
+        )
+        .into());
+    }
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut params =
         StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
@@ -75,6 +97,7 @@ pub fn render(args: RenderArgs) -> Outcome {
     };
     let mut step = 0usize;
     let mut strip = Vec::new();
+    let mut side = SideRecorder::default();
     let per_pose = (0.25 / sim.params.dt_s).round().max(1.0) as usize;
     while !sim.all_done() {
         if args.every > 0 && step.is_multiple_of(args.every) {
@@ -91,6 +114,11 @@ pub fn render(args: RenderArgs) -> Outcome {
         }
         sim.step();
         step += 1;
+        if args.side
+            && let Some(f) = sim.agents[0].body.animated().and_then(|b| b.footing())
+        {
+            side.observe(f);
+        }
     }
     save(&sim, "final.png".to_string())?;
     if args.poses {
@@ -101,6 +129,15 @@ pub fn render(args: RenderArgs) -> Outcome {
         draw_strip(&strip, &mut painter);
         let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
         let path = args.out.join("poses.png");
+        write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    if args.side {
+        let foot = sim.agents[0].body.animated().and_then(|b| b.footing()).map(|f| f.params().leg.foot_length_m());
+        let mut view = side.view(foot.unwrap_or_default(), SIDE_POSES_PER_STEP);
+        view.caption = Some(format!("{name}: {} steps, side view", side.len()));
+        let (pixmap, _) = render_side_view(&view);
+        let png = encode(&pixmap).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
+        let path = args.out.join("side.png");
         write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
     }
     let a = &sim.agents[0];

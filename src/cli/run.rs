@@ -4,13 +4,15 @@
 use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use anyhow::anyhow;
+use anyhow::{Context, anyhow};
 use clap::{Args, ValueEnum};
 
 use super::files;
 pub use super::load::{MapSource, MapSpec, episode_count, job};
 use super::load::{load_map, load_rules};
 use super::{Failure, Outcome};
+use crate::anim::bvh::{self, BvhOptions};
+use crate::anim::{Clip, Skeleton};
 use crate::experiment::{self, EpisodeRecord, Field};
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::text;
@@ -51,6 +53,12 @@ pub struct RunArgs {
     /// Agent body.
     #[command(flatten)]
     pub body: super::anim::BodyArgs,
+    /// Also write each episode's full motion of the animated character as
+    /// `DIR/episode_<N>.bvh`: 60 frames/s, metres, Y up (BVH (X, Y, Z) = world (y, z, x), as
+    /// `strider db export`), root OFFSET 0 0 0 with the root position channels holding the
+    /// world position (the pelvis height following the terrain).
+    #[arg(long, value_name = "DIR")]
+    pub bvh_out: Option<PathBuf>,
 }
 
 /// Data formats of `strider run`.
@@ -97,6 +105,11 @@ pub fn run(args: RunArgs) -> Outcome {
     {
         return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
     }
+    if args.bvh_out.is_some() && args.body.body == super::anim::BodyKind::Disc {
+        return Err(
+            anyhow!("--bvh-out writes the animated character's motion; it cannot be used with --body disc").into()
+        );
+    }
     let source = load_map_args(&args.map)?;
     let controller = load_controller(args.map.rules.as_deref())?;
     let count = episode_count(&source, args.episodes);
@@ -104,7 +117,30 @@ pub fn run(args: RunArgs) -> Outcome {
     let params = StepParameters {
         animation: super::anim::load_animation(&args.body)?,
         stopwatch: Some(wall_stopwatch()),
+        record_motion: args.bvh_out.is_some(),
         ..StepParameters::default()
+    };
+    // The motion files' directory and skeleton, checked before any episode runs.
+    let motion_out = match (&args.bvh_out, &params.animation) {
+        (Some(dir), Some(anim)) => {
+            std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+            files::check_writable(&dir.join("episode_0.bvh"))?;
+            Some((dir.clone(), world_skeleton(&anim.0.db.skeleton)?, 1.0 / anim.0.player.frame_rate))
+        }
+        _ => None,
+    };
+    let write_failure: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+    let each = |e: &experiment::Episode| {
+        let Some((dir, skeleton, frame_time)) = &motion_out else { return };
+        let path = dir.join(format!("episode_{}.bvh", e.record.episode));
+        let clip =
+            Clip { name: format!("episode_{}", e.record.episode), frame_time: *frame_time, frames: e.motion.clone() };
+        let text = bvh::write(skeleton, &clip, &BvhOptions::default());
+        if let Err(err) =
+            files::write_atomic(&path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))
+        {
+            write_failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(err);
+        }
     };
     let bar = if count > 1 && io::stderr().is_terminal() {
         let b = indicatif::ProgressBar::new(count as u64);
@@ -128,8 +164,11 @@ pub fn run(args: RunArgs) -> Outcome {
     let seed = args.map.seed;
     let make = |i: usize| job(&source, i, seed);
     let clock = std::time::Instant::now();
-    let records = pool.install(|| experiment::run_batch_of(count, &make, &controller, &params, &progress));
+    let records = pool.install(|| experiment::run_batch_each(count, &make, &controller, &params, &progress, &each));
     let elapsed = clock.elapsed().as_secs_f64();
+    if let Some(err) = write_failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(err.into());
+    }
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -150,6 +189,16 @@ pub fn run(args: RunArgs) -> Outcome {
         return Err(Failure::Task(anyhow!("{failed} of {} episodes did not reach the goal cleanly", records.len())));
     }
     Ok(())
+}
+
+/// The character's skeleton for world-motion files: the root's offset moved into its position
+/// channels (OFFSET 0 0 0), so that they hold the world position.
+fn world_skeleton(skeleton: &Skeleton) -> anyhow::Result<Skeleton> {
+    let mut joints = skeleton.joints().to_vec();
+    if let Some(root) = joints.first_mut() {
+        root.offset = glam::DVec3::ZERO;
+    }
+    Skeleton::new(joints).map_err(|e| anyhow!("cannot export the skeleton: {e}"))
 }
 
 /// Writes a run's episode records and summary in `format`: JSON `{"summary": …, "episodes":

@@ -14,10 +14,12 @@ use anyhow::{Context, anyhow};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 
-use super::{Failure, Outcome};
+use super::{Failure, Outcome, write_atomic};
 use crate::diagnostic::SourceError;
 use crate::footstep::profile::{self, MAX_PROFILE_BYTES};
 use crate::footstep::{Course, Decision, FootstepParams, FootstepPlanner, PlannedStep, PlannerMode, WalkOutcome};
+use crate::render::png::encode;
+use crate::render::side_view::{SideView, render_side_view};
 
 /// On or off.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -54,6 +56,10 @@ pub struct StepsArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = StepsFormat::Json)]
     pub format: StepsFormat,
+    /// Also write the walk's side view (seed 002 Fig 6, Fig 8): the ground profile, the
+    /// footholds and the legs through every swing, as a PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: Option<PathBuf>,
 }
 
 /// The `params` object of the JSON output.
@@ -89,6 +95,9 @@ struct Report {
     #[serde(skip_serializing_if = "Option::is_none")]
     stopped_reason: Option<String>,
 }
+
+/// Leg poses drawn per step in the side view.
+const SIDE_POSES_PER_STEP: usize = 4;
 
 /// A walk and the time each of its steps took to plan.
 struct TimedWalk {
@@ -266,6 +275,21 @@ pub fn run(args: StepsArgs) -> Outcome {
         let at = if course.start_line > 0 { format!(":{}", course.start_line) } else { String::new() };
         anyhow!("{}{at}: {e:#}", args.profile.display())
     })?;
+    if let Some(path) = &args.png {
+        let mut view = SideView::of_walk(course.ground.pieces(), &walk.footholds, &walk.steps, SIDE_POSES_PER_STEP);
+        view.foot_length_m = params.leg.foot_length_m();
+        view.goal_m = Some(course.goal_m);
+        view.stopped = walk.outcome != WalkOutcome::Reached;
+        let planner = match args.planner {
+            Switch::On => "planner on",
+            Switch::Off => "planner off",
+        };
+        let end = if view.stopped { "stopped" } else { "goal reached" };
+        view.caption = Some(format!("{}: {planner}, {} steps, {end}", args.profile.display(), walk.steps.len()));
+        let (pixmap, _) = render_side_view(&view);
+        let png = encode(&pixmap).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
+        write_atomic(path, &png).with_context(|| format!("cannot write {}", path.display()))?;
+    }
     let out = match args.format {
         StepsFormat::Json => json(&params, &walk)?,
         StepsFormat::Text => text(&args, &params, &walk),

@@ -203,6 +203,8 @@ pub struct AnimatedBody {
     footing: Option<Box<Footing>>,
     /// Switches of the player the footing has planned for.
     footing_switches: u64,
+    /// Every frame played since [`AnimatedBody::record_motion`], when recording.
+    motion: Option<Vec<crate::anim::Pose>>,
 }
 
 /// The look-ahead chooser: ranks the candidates and takes the best one whose path is clear.
@@ -396,8 +398,34 @@ impl AnimatedBody {
             tracking: Tracking::default(),
             footing: None,
             footing_switches: 0,
+            motion: None,
             anim,
         }
+    }
+
+    /// Starts recording the motion: the pose now, then every frame played
+    /// ([`AnimatedBody::motion`]).
+    pub fn record_motion(&mut self) {
+        self.motion = Some(vec![self.world_pose()]);
+    }
+
+    /// The frames recorded since [`AnimatedBody::record_motion`] (none when not recording), one
+    /// every `1 / frame_rate` seconds: world poses (metres, Z up), the pelvis height following
+    /// the terrain on uneven ground ([`Footing::ground_height_m`]).
+    pub fn motion(&self) -> Option<&[crate::anim::Pose]> {
+        self.motion.as_deref()
+    }
+
+    /// The skeleton's pose in the world now, the pelvis raised by the ground under it.
+    pub fn world_pose(&self) -> crate::anim::Pose {
+        let mut pose = self.player.pose().clone();
+        if let Some(f) = self.footing.as_deref() {
+            let db = &self.anim.db;
+            let duration = db.intervals[self.player.interval()].duration;
+            let progress = if duration > 0.0 { self.player.time_in_interval(db) / duration } else { 0.0 };
+            pose.root.z += f.ground_height_m(progress);
+        }
+        pose
     }
 
     /// Puts the character's feet on uneven terrain: from now on every step of a moving
@@ -578,6 +606,12 @@ impl Body for AnimatedBody {
                 outcome.blocked = true;
             } else {
                 outcome.moved_m += from.distance(to);
+            }
+            if self.motion.is_some() {
+                let pose = self.world_pose();
+                if let Some(m) = self.motion.as_mut() {
+                    m.push(pose);
+                }
             }
         }
         outcome.held = (self.held || outcome.held) && speed >= HELD_SPEED_MPS;

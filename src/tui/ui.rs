@@ -5,8 +5,9 @@
 //!
 //! Drawing is a function of the [`App`] and the area only, so ratatui's `TestBackend` can
 //! check any screen size. Below [`MIN_WIDTH`]×[`MIN_HEIGHT`] cells only a "too small" notice
-//! is drawn. Room is left in the side column for the animation and footstep panels of later
-//! layers.
+//! is drawn. When the selected agent is a character on uneven terrain, the side column also
+//! shows its footstep window (seed 002 §4.2): the ground profile ahead in characters, the
+//! supporting foot and the n planned footholds.
 
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
@@ -17,7 +18,9 @@ use ratatui::widgets::{Block, Borders, Clear, Paragraph, Widget, Wrap};
 
 use super::app::{App, LogLevel};
 use super::canvas::TermCanvas;
+use crate::footstep::Foot;
 use crate::render::scene::{Painter, ViewTransform, draw_scene, scene_transform};
+use crate::sim::footing::{Footing, PlayedStep};
 use crate::sim::{Body, Mode, Outcome, Side};
 
 /// Narrowest terminal the view is drawn in, cells.
@@ -180,10 +183,13 @@ fn side(app: &App, area: Rect, buf: &mut Buffer) {
     let n_out = net.output_names().count() as u16;
     // On short screens the agent panel drops its command line (the outputs show it).
     let agent_h = if area.height < 30 { 3 } else { 4 };
-    let [a_area, i_area, o_area, r_area] = Layout::vertical([
+    // A character on uneven terrain also gets the footstep window (seed 002 §4.2).
+    let steps_h = if footing_of(app).is_some() { FOOTSTEP_PANEL_H } else { 0 };
+    let [a_area, i_area, o_area, f_area, r_area] = Layout::vertical([
         Constraint::Length(agent_h),
         Constraint::Length(n_in + 1),
         Constraint::Length(n_out + 1),
+        Constraint::Length(steps_h),
         Constraint::Min(2),
     ])
     .areas(area);
@@ -194,7 +200,120 @@ fn side(app: &App, area: Rect, buf: &mut Buffer) {
     agent_panel(app, inner_of(a_area), buf);
     inputs_panel(app, inner_of(i_area), buf);
     outputs_panel(app, inner_of(o_area), buf);
+    if steps_h > 0 {
+        footstep_panel(app, inner_of(f_area), buf);
+    }
     rules_panel(app, inner_of(r_area), buf);
+}
+
+/// Rows of the footstep panel: its title, the side view and a line of step lengths.
+const FOOTSTEP_PANEL_H: u16 = 8;
+
+/// Colour of a foot's marks in the footstep panel (left blue, right red, as in the PNG side view).
+fn foot_colour(foot: Foot) -> Color {
+    match foot {
+        Foot::Left => Color::Blue,
+        Foot::Right => Color::Red,
+    }
+}
+
+/// The selected agent's footing, when it is a character on uneven terrain.
+fn footing_of(app: &App) -> Option<&Footing> {
+    app.sim.agents.get(app.selected)?.body.animated()?.footing()
+}
+
+/// One cell of the footstep panel's side view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cell {
+    symbol: char,
+    style: Style,
+}
+
+/// The footstep window in characters (seed 002 §4.2): the ground profile ahead of the
+/// supporting foot in a `cols`×`rows` grid (solid ground `█`, gaps empty), the supporting foot
+/// as `L`/`R` and the n planned footholds as `1`…`n` standing on the ground, in their feet's
+/// colours.
+fn footstep_grid(step: &PlayedStep, swinging: Foot, cols: usize, rows: usize) -> Vec<Vec<Cell>> {
+    let blank = Cell { symbol: ' ', style: Style::new() };
+    let mut grid = vec![vec![blank; cols]; rows];
+    if cols == 0 || rows == 0 {
+        return grid;
+    }
+    let profile = &step.profile;
+    let stance = step.swing.stance;
+    let mut marks = vec![(stance.x_m, swinging.other(), None)];
+    let (mut x, mut foot) = (stance.x_m, swinging);
+    for (i, s) in step.window_m.iter().enumerate() {
+        x += s;
+        marks.push((x, foot, Some(i + 1)));
+        foot = foot.other();
+    }
+    let x_lo = stance.x_m - 0.4;
+    let x_hi = x + 0.4;
+    let dx = (x_hi - x_lo) / cols as f64;
+    let column = |x: f64| ((x - x_lo) / dx).floor();
+    let heights: Vec<Option<f64>> = (0..cols).map(|c| profile.height_at(x_lo + (c as f64 + 0.5) * dx)).collect();
+    let known = || heights.iter().flatten().copied();
+    let (z_lo, z_hi) = (known().fold(f64::INFINITY, f64::min), known().fold(f64::NEG_INFINITY, f64::max));
+    if !z_lo.is_finite() {
+        return grid;
+    }
+    // One row above the highest ground for the marks, at least one row of ground everywhere.
+    let span = (z_hi - z_lo).max(0.1 * (rows as f64 - 2.0).max(1.0));
+    let dz = span / (rows as f64 - 2.0).max(1.0);
+    let ground = Style::new().fg(Color::Yellow).add_modifier(Modifier::DIM);
+    let mut top = vec![None; cols];
+    for (c, h) in heights.iter().enumerate() {
+        let Some(h) = h else { continue };
+        // Row 0 is the top; the ground surface is in row `rows − 1 − (h − z_lo) / dz − 1`.
+        let above = ((h - z_lo) / dz).round() as usize;
+        let surface = rows.saturating_sub(2 + above.min(rows - 2)) + 1;
+        for row in grid.iter_mut().skip(surface) {
+            row[c] = Cell { symbol: '█', style: ground };
+        }
+        top[c] = Some(surface);
+    }
+    for (x, foot, n) in marks {
+        let c = column(x);
+        if !(c >= 0.0 && c < cols as f64) {
+            continue;
+        }
+        let c = c as usize;
+        let Some(surface) = top[c] else { continue };
+        let symbol = match (n, foot) {
+            (Some(n), _) => char::from_digit(n as u32 % 10, 10).unwrap_or('#'),
+            (None, Foot::Left) => 'L',
+            (None, Foot::Right) => 'R',
+        };
+        grid[surface.saturating_sub(1)][c] =
+            Cell { symbol, style: Style::new().fg(foot_colour(foot)).add_modifier(Modifier::BOLD) };
+    }
+    grid
+}
+
+fn footstep_panel(app: &App, area: Rect, buf: &mut Buffer) {
+    let Some(f) = footing_of(app) else { return };
+    let block = section(format!("Footsteps · n = {}", f.params().window_steps));
+    let inner = block.inner(area);
+    block.render(area, buf);
+    if let Some(reason) = f.stopped() {
+        let line = Line::styled(format!("stopped: {reason}"), Style::new().fg(Color::Red));
+        Paragraph::new(line).wrap(Wrap { trim: true }).render(inner, buf);
+        return;
+    }
+    let (Some(step), Some(last)) = (f.played(), f.footholds().last()) else {
+        Paragraph::new(Line::styled("standing: no step planned", DIM)).render(inner, buf);
+        return;
+    };
+    let rows = usize::from(inner.height.saturating_sub(1));
+    let grid = footstep_grid(step, last.foot, usize::from(inner.width), rows);
+    let mut lines: Vec<Line> = grid
+        .into_iter()
+        .map(|row| Line::from(row.into_iter().map(|c| Span::styled(c.symbol.to_string(), c.style)).collect::<Vec<_>>()))
+        .collect();
+    let lengths: Vec<String> = step.window_m.iter().map(|s| format!("{s:.2}")).collect();
+    lines.push(Line::raw(format!("steps {} m · {}", lengths.join(" "), step.swing.kind.name())));
+    Paragraph::new(lines).render(inner, buf);
 }
 
 fn mode_text(m: Mode) -> String {
