@@ -516,3 +516,17 @@ fn regression_a_cylinder_of_zero_radius_is_refused_by_every_importer() {
     let e = text::parse("start 0 0\ngoal 9 0\ncyl 2 0.7 0\n", "w.txt").unwrap_err();
     assert_eq!(e.line, 3, "{e}");
 }
+
+/// A BARN optimal time so large that the reference length derived from it (at 2 m/s) became
+/// infinite was accepted, and the world it wrote could not be read back: both BARN values are
+/// now bounded, with the line and column of the value.
+#[test]
+fn regression_a_benchmark_reference_that_overflows_is_refused() {
+    for line in ["optimal_time_at_2mps 1e308", "ref_path_length 1e300"] {
+        let e = text::parse(&format!("start 0 0\ngoal 9 0\n{line}\n"), "w.txt").unwrap_err();
+        assert_eq!((e.line, e.col), (3, line.find(' ').unwrap() + 2), "{e}");
+        assert!(e.message.contains("at most"), "{e}");
+    }
+    let s = text::parse("start 0 0\ngoal 9 0\noptimal_time_at_2mps 5e6\n", "w.txt").unwrap();
+    assert_eq!(s.reference.map(|r| r.path_length_m), Some(1e7));
+}

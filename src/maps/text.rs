@@ -49,6 +49,9 @@ use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, MAX_STAIR_TREADS, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain, World};
 
+/// Largest `ref_path_length` (metres) or `optimal_time_at_2mps` (seconds) a world may give.
+const MAX_REFERENCE: f64 = 1e7;
+
 /// Items of a text world that describe a benchmark rather than the world (BARN challenge).
 /// [`parse`] keeps the reference path's length as the scenario's [`Reference`] (from
 /// `optimal_time_at_2mps` at 2 m/s when only that is given); [`parse_with_extras`] also
@@ -366,6 +369,15 @@ impl<'f> Parser<'f> {
             "ref_path_length" | "optimal_time_at_2mps" => {
                 let v = self.numbers(line, kw, args, end_col, (1, 1), &format!("{} value", kw.text))?;
                 let value = self.positive(line, args[0], v[0], kw.text)?;
+                // Far beyond any world (tasks stay within 100 km), and small enough that the
+                // reference length derived from it stays finite.
+                if value > MAX_REFERENCE {
+                    return Err(self.err(
+                        line,
+                        args[0].col,
+                        format!("`{}` must be at most {MAX_REFERENCE:e}", kw.text),
+                    ));
+                }
                 let slot = if kw.text == "ref_path_length" {
                     &mut self.extras.ref_path_length_m
                 } else {
