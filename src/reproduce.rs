@@ -208,11 +208,7 @@ pub fn run(
             let area = area_of(&env.scenario, &world);
             let held_out: Vec<Task> =
                 (0..options.held_out as u64).map(|i| random_task(&world, area, radius, options.seed, i, 2)).collect();
-            let unseen_kind = match env.density {
-                Density::Sparse => WorldKind::Sparse,
-                Density::Semi => WorldKind::Semi,
-                Density::Cluttered => WorldKind::Cluttered,
-            };
+            let unseen_kind = WorldKind::from(env.density);
             let unseen: Vec<Arc<Scenario>> = (0..options.unseen)
                 .map(|i| Arc::new(kind::generate(unseen_kind, experiment::world_seed(options.seed ^ 0x7ab1e, i))))
                 .collect();
@@ -222,7 +218,7 @@ pub fn run(
             let rl_params = PureRlParams { obstacles: env.obstacles, radius, ..PureRlParams::default() };
             let mut rl = PureRl::new(rl_params);
             let clock = Instant::now();
-            let mut success = 0.0;
+            let (mut success, mut own_collisions) = (0.0, 0);
             while rl.episodes < options.max_episodes {
                 let end = (rl.episodes + options.round).min(options.max_episodes);
                 while rl.episodes < end {
@@ -230,14 +226,13 @@ pub fn run(
                     let index = rl.episodes;
                     rl.episode(db, &world, &task, true, options.seed, index);
                 }
-                success = score(&mut rl, db, &world, &held_out, options.seed).0;
+                (success, own_collisions) = score(&mut rl, db, &world, &held_out, options.seed);
                 report.round(&env.name, rl.episodes, success);
                 if success >= options.target_success {
                     break;
                 }
             }
             let training_s = clock.elapsed().as_secs_f64();
-            let (_, own_collisions) = score(&mut rl, db, &world, &held_out, options.seed);
             let mut unseen_reached = 0;
             let mut unseen_collisions = 0;
             for s in &unseen {
