@@ -53,6 +53,14 @@ impl Foot {
         }
     }
 
+    /// 0 for the left foot, 1 for the right (the order of the skeleton's sides).
+    pub fn index(self) -> usize {
+        match self {
+            Foot::Left => 0,
+            Foot::Right => 1,
+        }
+    }
+
     /// `"left"` or `"right"`.
     pub fn name(self) -> &'static str {
         match self {

@@ -287,6 +287,78 @@ mod character {
         assert!((clip.frames[0].root.z - 0.95).abs() < 0.05);
     }
 
+    /// The legs of the exported motion, checked by forward kinematics over the BVH file alone:
+    /// no heel or toe ever below the ground, every foothold the planner took (but a last one
+    /// the episode ends before reaching) held by its foot's sole, knees bending forward, and
+    /// no foot jumping between frames.
+    #[test]
+    fn the_exported_legs_stand_on_the_footholds() {
+        use glam::DVec3;
+        use strider::anim::actor::{HEEL_POINT, LEFT_FOOT, LEFT_LEG, RIGHT_FOOT, RIGHT_LEG, TOE_POINT};
+        use strider::anim::bvh::{self, BvhOptions};
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bvh_legs");
+        for (name, src, _) in SCENES {
+            let _ = std::fs::remove_dir_all(&dir);
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+                .args(["run", &format!("maps/{name}"), "--bvh-out", dir.to_str().unwrap()])
+                .current_dir(env!("CARGO_MANIFEST_DIR"))
+                .output()
+                .unwrap();
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            let text = std::fs::read_to_string(dir.join("episode_0.bvh")).unwrap();
+            let file = bvh::parse(&text, "episode_0.bvh", "episode_0", &BvhOptions::default()).unwrap();
+            let sk = &file.skeleton;
+            let feet = [sk.find(LEFT_FOOT).unwrap(), sk.find(RIGHT_FOOT).unwrap()];
+            let knees = [sk.find(LEFT_LEG).unwrap(), sk.find(RIGHT_LEG).unwrap()];
+            let s = map(src, name);
+            let w = s.world();
+            let mut soles = Vec::new();
+            let mut g = Vec::new();
+            let mut lowest = f64::INFINITY;
+            for (k, pose) in file.clip.frames.iter().enumerate() {
+                sk.globals(pose, &mut g);
+                let mut both = [DVec3::ZERO; 2];
+                for i in 0..2 {
+                    let (ankle, q) = g[feet[i]];
+                    let (heel, toe) = (ankle + q * HEEL_POINT, ankle + q * TOE_POINT);
+                    for p in [heel, toe] {
+                        if let Some(z) = w.terrain.ground(p.truncate()) {
+                            lowest = lowest.min(p.z - z);
+                        }
+                    }
+                    both[i] = 0.5 * (heel + toe);
+                    let bend = pose.rotations[knees[i]].to_euler(glam::EulerRot::YXZ).0;
+                    assert!(bend >= -1e-9, "{name}: frame {k}: a knee bends backward ({bend})");
+                }
+                soles.push(both);
+            }
+            assert!(lowest > -1e-3, "{name}: a foot {lowest} m into the ground");
+            // At most 8 m/s between frames (the swing's peak is about 5).
+            let dt = file.clip.frame_time;
+            for (k, f) in soles.windows(2).enumerate() {
+                for (a, b) in f[0].iter().zip(&f[1]) {
+                    let v = a.distance(*b) / dt;
+                    assert!(v < 8.0, "{name}: frame {k}: a foot jumps at {v} m/s");
+                }
+            }
+            // The footholds, from the same (deterministic) episode through the library.
+            let mut sim = Simulation::new(w.clone(), params());
+            sim.add_agent(s.tasks[0], &controller());
+            while !sim.all_done() {
+                sim.step();
+            }
+            let f = sim.agents[0].body.animated().unwrap().footing().unwrap();
+            let taken = f.footholds();
+            assert!(taken.len() >= 10, "{name}");
+            for h in &taken[..taken.len() - 1] {
+                let at = h.sole_centre().extend(h.z_m);
+                let i = h.foot.index();
+                let nearest = soles.iter().map(|s| s[i].distance(at)).fold(f64::INFINITY, f64::min);
+                assert!(nearest < 0.015, "{name}: {h:?} held only within {nearest} m");
+            }
+        }
+    }
+
     #[test]
     fn a_gap_too_wide_stops_the_character_with_a_reason() {
         let src = r#"

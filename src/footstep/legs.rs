@@ -281,6 +281,12 @@ impl Swing {
         self.touch_down.x_m - self.stance.x_m
     }
 
+    /// The hip's position along X at phase `t` (clamped to `[0, 1]`): from midway between the
+    /// lift-off and supporting ankles to midway between the supporting and touch-down ankles.
+    pub fn hip_x_at(&self, t: f64) -> f64 {
+        self.hip_x[0] + (self.hip_x[1] - self.hip_x[0]) * t.clamp(0.0, 1.0)
+    }
+
     /// The hip at phase `t`: the key frames interpolated, lowered where a leg could not reach;
     /// an error when a foot is out of reach even so, or the hip comes closer to an ankle than
     /// the knee's flexion allows.
@@ -289,7 +295,7 @@ impl Swing {
         let [h0, mid, h1] = self.hip_keys;
         let key =
             if t < 0.5 { h0 + (mid - h0) * smoothstep(2.0 * t) } else { mid + (h1 - mid) * smoothstep(2.0 * t - 1.0) };
-        let x = self.hip_x[0] + (self.hip_x[1] - self.hip_x[0]) * t;
+        let x = self.hip_x_at(t);
         let reach = leg.max_reach_m();
         let ankles = [ankle_of(leg, &self.stance), ankle_of(leg, &self.sole_at(t))];
         let mut z = key;
@@ -316,10 +322,7 @@ impl Swing {
         let leg = &self.leg;
         // Every sample was checked when the step was planned; between samples the hip is the
         // same continuous function, so the fallback only guards against rounding.
-        let hip = self.hip_at(t).unwrap_or_else(|_| {
-            let x = self.hip_x[0] + (self.hip_x[1] - self.hip_x[0]) * t;
-            DVec2::new(x, self.hip_keys[1])
-        });
+        let hip = self.hip_at(t).unwrap_or_else(|_| DVec2::new(self.hip_x_at(t), self.hip_keys[1]));
         let length = leg.foot_length_m();
         let pose = |sole: Sole| {
             let ankle = ankle_of(leg, &sole);

@@ -476,6 +476,54 @@ impl<'g> FootstepPlanner<'g> {
         Ok(planner)
     }
 
+    /// A planner for a walker whose feet are planted now: `rear` (the foot to swing next,
+    /// `next`) and `front` (not behind it), walking toward `goal_m` on `ground`. The planted
+    /// soles are taken as they are: they were valid footholds when they were planted, though
+    /// the ground along a new heading may not hold them any more. Footholds lie on the lattice
+    /// of whole micrometres from the rear foot.
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_planted(
+        ground: &'g GroundProfile,
+        rear: Sole,
+        front: Sole,
+        next: Foot,
+        goal_m: f64,
+        params: FootstepParams,
+        mode: PlannerMode,
+    ) -> Result<FootstepPlanner<'g>, PlanError> {
+        params.validate()?;
+        let finite = [rear.x_m, rear.z_m, rear.pitch_rad, front.x_m, front.z_m, front.pitch_rad, goal_m];
+        if !finite.iter().all(|v| v.is_finite()) || front.x_m < rear.x_m {
+            return Err(PlanError::Course(ProfileError::Course(format!(
+                "planted feet at {} and {} and goal {goal_m} must be finite, the front foot not behind the rear one",
+                rear.x_m, front.x_m
+            ))));
+        }
+        let mut model = StepModel::new(ground, params, rear.x_m);
+        let b = ((front.x_m - rear.x_m) * 1e6).round() as i64;
+        model.plant(0, rear);
+        model.plant(b, front);
+        let at = |offset: i64, foot: Foot, model: &mut StepModel| {
+            model
+                .sole(offset)
+                .map(|sole| Foothold { foot, sole })
+                .map_err(|failure| PlanError::Start { x_m: model.x_of(offset), failure })
+        };
+        let footholds = vec![at(0, next, &mut model)?, at(b, next.other(), &mut model)?];
+        Ok(FootstepPlanner {
+            model,
+            steps: StepSet::new(&params),
+            goal_m: goal_m.max(rear.x_m),
+            mode,
+            state: (0, b),
+            next_foot: next,
+            footholds,
+            reach: None,
+            carry: None,
+            table: None,
+        })
+    }
+
     /// A planner for `course` (its ground, start and goal).
     pub fn for_course(
         course: &'g Course,
@@ -644,6 +692,31 @@ mod tests {
                 assert_eq!(s.foot, if i % 2 == 0 { Foot::Left } else { Foot::Right });
             }
         }
+    }
+
+    #[test]
+    fn planted_feet_are_taken_as_they_are() {
+        // The front foot overhangs a gap along this profile (the walker turned since it was
+        // planted): a stance on the profile alone is refused, the planted one is not, and the
+        // steps from it are checked as usual.
+        let c = course("start 0\ngoal 5\nground -1 0 0.05 0\nground 0.2 0 7 0\n");
+        let p = FootstepParams::default();
+        let stance = FootstepPlanner::from_stance(&c.ground, -0.6, 0.0, Foot::Left, 4.0, p, PlannerMode::Window);
+        assert!(matches!(stance, Err(PlanError::Start { .. })));
+        let rear = Sole { x_m: -0.6, z_m: 0.0, pitch_rad: 0.0 };
+        let front = Sole { x_m: 0.0, ..rear };
+        let mut planner =
+            FootstepPlanner::from_planted(&c.ground, rear, front, Foot::Left, 4.0, p, PlannerMode::Window).unwrap();
+        assert_eq!(planner.footholds()[1].sole, front);
+        assert_eq!(planner.footholds()[0].foot, Foot::Left);
+        let Decision::Step(s) = planner.next_step(0.65) else { panic!("no step") };
+        assert_eq!(s.foot, Foot::Left);
+        assert!(s.swing.touch_down.x_m >= 0.2 + 0.12 - 1e-9, "{:?}", s.swing.touch_down);
+        let bad = Sole { x_m: f64::NAN, ..rear };
+        assert!(FootstepPlanner::from_planted(&c.ground, bad, front, Foot::Left, 4.0, p, PlannerMode::Window).is_err());
+        assert!(
+            FootstepPlanner::from_planted(&c.ground, front, rear, Foot::Left, 4.0, p, PlannerMode::Window).is_err()
+        );
     }
 
     #[test]

@@ -43,6 +43,11 @@ impl<'a> StepModel<'a> {
         position_m(self.start_m, offset_um)
     }
 
+    /// Takes `sole` as the sole at a foothold, as it is (a foot already planted there).
+    pub(crate) fn plant(&mut self, offset_um: i64, sole: Sole) {
+        self.soles.insert(offset_um, Ok(Sole { x_m: self.x_of(offset_um), ..sole }));
+    }
+
     /// The sole at a foothold (cached).
     pub(crate) fn sole(&mut self, offset_um: i64) -> Result<Sole, StepFailure> {
         if let Some(s) = self.soles.get(&offset_um) {

@@ -410,20 +410,21 @@ impl AnimatedBody {
     }
 
     /// The frames recorded since [`AnimatedBody::record_motion`] (none when not recording), one
-    /// every `1 / frame_rate` seconds: world poses (metres, Z up), the pelvis height following
-    /// the terrain on uneven ground ([`Footing::ground_height_m`]).
+    /// every `1 / frame_rate` seconds: world poses (metres, Z up), the legs on the ground on
+    /// uneven terrain ([`Footing::pose_legs`]).
     pub fn motion(&self) -> Option<&[crate::anim::Pose]> {
         self.motion.as_deref()
     }
 
-    /// The skeleton's pose in the world now, the pelvis raised by the ground under it.
+    /// The skeleton's pose in the world now: on uneven terrain, the legs on the ground
+    /// ([`Footing::pose_legs`]).
     pub fn world_pose(&self) -> crate::anim::Pose {
         let mut pose = self.player.pose().clone();
         if let Some(f) = self.footing.as_deref() {
             let db = &self.anim.db;
             let duration = db.intervals[self.player.interval()].duration;
             let progress = if duration > 0.0 { self.player.time_in_interval(db) / duration } else { 0.0 };
-            pose.root.z += f.ground_height_m(progress);
+            f.pose_legs(&db.skeleton, &mut pose, progress);
         }
         pose
     }
@@ -588,11 +589,16 @@ impl Body for AnimatedBody {
                     self.footing_switches = self.player.metrics.switches;
                     f.decide(&anim.db, self.player.interval(), prev);
                 }
-                // The adapted step: the interval's root translation scaled (held when stopped).
-                let k = f.scale();
-                if k != 1.0 {
-                    now = Ground { x: prev.x + (now.x - prev.x) * k, y: prev.y + (now.y - prev.y) * k, yaw: now.yaw };
-                    self.player.hold(&anim.db, now);
+                // The adapted step: the root follows the planned hip (held when stopped).
+                let db = &anim.db;
+                let duration = db.intervals[self.player.interval()].duration;
+                let progress = if duration > 0.0 { self.player.time_in_interval(db) / duration } else { 1.0 };
+                if let Some(root) = f.root_at(progress, prev, now) {
+                    now = root;
+                    self.player.hold(db, now);
+                } else if f.stopped().is_some() {
+                    now = Ground { yaw: now.yaw, ..prev };
+                    self.player.hold(db, now);
                 }
                 if f.stopped().is_some() {
                     outcome.held = true;

@@ -5,9 +5,11 @@
 //! character's sagittal plane (a vertical plane along its heading through the front foot) into
 //! a [`GroundProfile`] reaching [`HORIZON_M`] ahead, and runs the [`FootstepPlanner`] from the
 //! two feet planted now with the interval's step (mean speed × duration) as the nominal one.
-//! The step it returns places the next foothold, and the interval's root motion is scaled by
-//! the adapted step over the nominal one; the pelvis height follows the ground along the
-//! planned legs ([`Swing::pose_at`]). When the planner stops — no sequence of steps reaches
+//! The step it returns places the next foothold. While the interval plays, the root follows
+//! the planned hip along the step's line ([`Footing::root_at`]; across the line and in heading
+//! it moves as the interval does), and the legs are the planned ones: the swinging sole on
+//! its Bezier curve, two-link inverse kinematics, the pelvis height following the ground
+//! ([`Footing::pose_legs`], [`Swing::pose_at`]); the upper body is the database's. When the planner stops — no sequence of steps reaches
 //! further — the character stands (its root holds) and [`Footing::stopped`] says why; it never
 //! takes an invalid foothold. Intervals that stay in place, or whose step is shorter than
 //! half the shortest step, keep the feet where they are.
@@ -18,9 +20,12 @@
 
 use std::sync::Arc;
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
-use crate::anim::{Database, Ground};
+use crate::anim::actor::HIP_HALF_WIDTH_M;
+use crate::anim::procedural::leg::{FootTarget, MAX_REACH_M, Rig, SIDES, place_leg, sole_point};
+use crate::anim::skeleton::heading;
+use crate::anim::{Database, Ground, Pose, Skeleton};
 use crate::footstep::{
     Decision, Foot, FootstepParams, FootstepPlanner, GroundProfile, PlannerMode, Sole, StopReason, Swing,
 };
@@ -30,6 +35,18 @@ use crate::world::Terrain;
 pub const HORIZON_M: f64 = 5.0;
 /// Points along each sole at which a foothold is checked against the terrain.
 const SOLE_SAMPLES: usize = 9;
+/// Half the width of a sole, metres: each foot stands on a strip this far either side of its
+/// line, half the hip width out from the path.
+pub const FOOT_HALF_WIDTH_M: f64 = 0.05;
+/// Largest difference in height across the feet's strip that still counts as one foothold
+/// (a sole resting on ground that falls away sideways), metres.
+pub const ACROSS_TOLERANCE_M: f64 = 0.03;
+
+/// Offsets to the left of the path of the lines under the edges of both soles, metres.
+fn sole_edges() -> [f64; 4] {
+    let (h, w) = (HIP_HALF_WIDTH_M, FOOT_HALF_WIDTH_M);
+    [-(h + w), -(h - w), h - w, h + w]
+}
 
 /// A clock a front-end may lend the footing to time its planning (seconds, any origin). The
 /// simulation never reads it for anything else.
@@ -65,6 +82,17 @@ pub struct WorldFoothold {
     pub z_m: f64,
     /// Direction the foot points, radians.
     pub yaw: f64,
+    /// Pitch of the sole along `yaw`, radians, positive toes up.
+    pub pitch_rad: f64,
+}
+
+impl WorldFoothold {
+    /// Where the middle of the sole rests: half the hip width out from the path, on the
+    /// foot's side.
+    pub fn sole_centre(&self) -> DVec2 {
+        let side = if self.foot == Foot::Left { 1.0 } else { -1.0 };
+        self.position + DVec2::from_angle(self.yaw).perp() * (side * HIP_HALF_WIDTH_M)
+    }
 }
 
 /// The step being played: the legs planned in the sagittal plane through `origin` along `dir`.
@@ -80,6 +108,8 @@ pub struct PlayedStep {
     pub profile: GroundProfile,
     /// The planner's window of steps (metres), its first one being this step.
     pub window_m: Vec<f64>,
+    /// Where the swinging foot lifts off, in the world.
+    pub lift_off: WorldFoothold,
 }
 
 /// The feet of an animated character on uneven terrain. See the [module docs](self).
@@ -90,8 +120,6 @@ pub struct Footing {
     clock: Option<StopwatchHandle>,
     rear: WorldFoothold,
     front: WorldFoothold,
-    /// Root translation scale of the interval playing.
-    scale: f64,
     played: Option<PlayedStep>,
     stopped: Option<String>,
     footholds: Vec<WorldFoothold>,
@@ -101,11 +129,13 @@ pub struct Footing {
 }
 
 impl Footing {
-    /// Feet side by side at `at` on `terrain`.
+    /// Feet side by side under the pelvis at `at` on `terrain` (the ankles under the hips, so
+    /// the soles' centres a little ahead).
     pub fn new(terrain: Arc<Terrain>, params: FootstepParams, at: Ground, clock: Option<StopwatchHandle>) -> Footing {
-        let p = DVec2::new(at.x, at.y);
+        let ahead = 0.5 * (params.leg.toe_forward_m - params.leg.heel_back_m);
+        let p = DVec2::new(at.x, at.y) + DVec2::from_angle(at.yaw) * ahead;
         let z = terrain.height(p);
-        let left = WorldFoothold { foot: Foot::Left, position: p, z_m: z, yaw: at.yaw };
+        let left = WorldFoothold { foot: Foot::Left, position: p, z_m: z, yaw: at.yaw, pitch_rad: 0.0 };
         let right = WorldFoothold { foot: Foot::Right, ..left };
         Footing {
             terrain,
@@ -113,7 +143,6 @@ impl Footing {
             clock,
             rear: left,
             front: right,
-            scale: 1.0,
             played: None,
             stopped: None,
             footholds: vec![left, right],
@@ -121,12 +150,6 @@ impl Footing {
             planning_s: Vec::new(),
             plans: 0,
         }
-    }
-
-    /// The root translation scale of the interval playing (adapted step / nominal step; 0 while
-    /// stopped).
-    pub fn scale(&self) -> f64 {
-        self.scale
     }
 
     /// Why the character stands, while the planner finds no step.
@@ -177,13 +200,107 @@ impl Footing {
         }
     }
 
+    /// Where the root goes `progress` (0–1) through a planned step, from `prev` (the root one
+    /// frame earlier) toward `natural` (where the interval's own motion takes it): along the
+    /// step's line as far as the planned hip has come, across it as the interval moves, with the
+    /// interval's heading. `None` when no step is planned (the interval's motion stands).
+    pub fn root_at(&self, progress: f64, prev: Ground, natural: Ground) -> Option<Ground> {
+        let p = self.played.as_ref()?;
+        let side = p.dir.perp();
+        let (from, to) = (DVec2::new(prev.x, prev.y), DVec2::new(natural.x, natural.y));
+        let across = (from - p.origin).dot(side) + (to - from).dot(side);
+        let at = p.origin + p.dir * p.swing.hip_x_at(progress) + side * across;
+        Some(Ground { x: at.x, y: at.y, yaw: natural.yaw })
+    }
+
+    /// Puts the legs of `pose` — the database's pose of the built-in actor, its root already
+    /// placed in the world over flat ground — on the terrain, `progress` (0–1) through the
+    /// interval playing (seed 002 §4.1).
+    ///
+    /// During a planned step the legs are the planner's: the supporting sole on its foothold,
+    /// the swinging sole along its Bezier curve from one foothold to the next, each sole
+    /// beside the path ([`WorldFoothold::sole_centre`]) with the ground's pitch, the pelvis at
+    /// the planned hip height;
+    /// otherwise (intervals in place, standing, stopped) each foot keeps the database's motion
+    /// raised onto the height of its own foothold, and the pelvis rises by the mean of the two.
+    /// Either way the pelvis comes down where a leg could not reach its target, and both legs
+    /// are solved by two-link inverse kinematics with the knees forward; the upper body is the
+    /// database's. A skeleton not built like the actor (an imported rig) keeps its database
+    /// legs, the pelvis raised by the ground under it.
+    pub fn pose_legs(&self, skeleton: &Skeleton, pose: &mut Pose, progress: f64) {
+        let Some(rig) = Rig::find(skeleton) else {
+            pose.root.z += self.ground_height_m(progress);
+            return;
+        };
+        let root_yaw = heading(pose.rotations[0]);
+        let by_foot = |foot: usize| if self.rear.foot.index() == foot { self.rear } else { self.front };
+        let mut targets =
+            [FootTarget { point: DVec3::ZERO, local: DVec3::ZERO, yaw: 0.0, pitch: 0.0, planted: true }; 2];
+        let mut hip_z;
+        match &self.played {
+            Some(p) => {
+                let t = progress.clamp(0.0, 1.0);
+                let swinging = self.front.foot.index();
+                let (from, to) = (p.swing.lift_off.x_m, p.swing.touch_down.x_m);
+                for (i, target) in targets.iter_mut().enumerate() {
+                    let (sole, at) = if i == swinging {
+                        // Along the straight line between the two footholds in the world,
+                        // as far as the curve has come along the profile.
+                        let sole = p.swing.sole_at(t);
+                        let u = if to > from { ((sole.x_m - from) / (to - from)).clamp(0.0, 1.0) } else { t };
+                        (sole, p.lift_off.sole_centre().lerp(self.front.sole_centre(), u))
+                    } else {
+                        (p.swing.stance, self.rear.sole_centre())
+                    };
+                    *target = FootTarget {
+                        point: DVec3::new(at.x, at.y, sole.z_m),
+                        local: sole_point(0.5),
+                        yaw: root_yaw,
+                        pitch: -sole.pitch_rad,
+                        planted: i != swinging,
+                    };
+                }
+                hip_z = p.swing.pose_at(t).stance.hip.y;
+            }
+            None => {
+                let mut globals = Vec::with_capacity(skeleton.len());
+                skeleton.globals(pose, &mut globals);
+                let mut rise = 0.0;
+                for (i, target) in targets.iter_mut().enumerate() {
+                    let (ankle, q) = globals[rig.foot[i]];
+                    let z = by_foot(i).z_m;
+                    rise += 0.5 * z;
+                    let forward = q * DVec3::X;
+                    *target = FootTarget {
+                        point: ankle + DVec3::new(0.0, 0.0, z),
+                        local: DVec3::ZERO,
+                        yaw: root_yaw,
+                        pitch: (-forward.z).clamp(-1.0, 1.0).asin(),
+                        planted: true,
+                    };
+                }
+                hip_z = pose.root.z + rise;
+            }
+        }
+        let rot = pose.rotations[0];
+        for (i, target) in targets.iter().enumerate() {
+            let hip = pose.root + rot * DVec3::new(0.0, SIDES[i] * HIP_HALF_WIDTH_M, 0.0);
+            let ankle = target.ankle();
+            let flat = (ankle - hip).truncate().length().min(MAX_REACH_M);
+            hip_z = hip_z.min(ankle.z + (MAX_REACH_M * MAX_REACH_M - flat * flat).sqrt());
+        }
+        pose.root.z = hip_z;
+        for (i, target) in targets.iter().enumerate() {
+            place_leg(&rig, i, target, pose);
+        }
+    }
+
     /// A new interval starts at `root`: plans its step (see the [module docs](self)).
     pub fn decide(&mut self, db: &Database, interval: usize, root: Ground) {
         let iv = &db.intervals[interval];
         let nominal = iv.speed * iv.duration;
         self.played = None;
         if db.kinds[interval].in_place || !(nominal >= 0.5 * self.params.step_min_m) {
-            self.scale = 1.0;
             self.stopped = None;
             return;
         }
@@ -194,35 +311,32 @@ impl Footing {
         }
         self.plans += 1;
         match outcome {
-            Ok((step, played)) => {
-                self.scale = step / nominal;
+            Ok(played) => {
                 self.stopped = None;
                 self.played = Some(played);
             }
             Err(reason) => {
-                self.scale = 0.0;
                 self.stopped = Some(reason);
             }
         }
     }
 
-    /// Plans one step of nominal length `nominal` along `yaw`: the adapted step length, or why
-    /// there is none.
-    fn plan(&mut self, nominal: f64, yaw: f64) -> Result<(f64, PlayedStep), String> {
+    /// Plans one step of nominal length `nominal` along `yaw`, or says why there is none.
+    fn plan(&mut self, nominal: f64, yaw: f64) -> Result<PlayedStep, String> {
         let dir = DVec2::from_angle(yaw);
         let origin = self.front.position;
         let rear_m = (self.rear.position - origin).dot(dir).min(0.0);
         let from = rear_m - self.params.step_max_m;
-        let Some(profile) = self.terrain.profile(origin, dir, from, HORIZON_M) else {
+        let Some(profile) = self.terrain.strip_profile(origin, dir, from, HORIZON_M, &sole_edges(), ACROSS_TOLERANCE_M)
+        else {
             return Err("no ground ahead".into());
         };
         let goal_m = HORIZON_M - self.params.leg.foot_length_m();
         let next = self.rear.foot;
+        let sole = |f: &WorldFoothold, x_m: f64| Sole { x_m, z_m: f.z_m, pitch_rad: f.pitch_rad };
+        let (rear, front) = (sole(&self.rear, rear_m), sole(&self.front, 0.0));
         let planner =
-            FootstepPlanner::from_stance(&profile, rear_m, 0.0, next, goal_m, self.params, PlannerMode::Window)
-                .or_else(|_| {
-                    FootstepPlanner::from_stance(&profile, 0.0, 0.0, next, goal_m, self.params, PlannerMode::Window)
-                });
+            FootstepPlanner::from_planted(&profile, rear, front, next, goal_m, self.params, PlannerMode::Window);
         let mut planner = match planner {
             Ok(p) => p,
             Err(e) => return Err(e.to_string()),
@@ -230,15 +344,30 @@ impl Footing {
         match planner.next_step(nominal) {
             Decision::Step(s) => {
                 let x = s.swing.touch_down.x_m;
-                let foothold =
-                    WorldFoothold { foot: s.foot, position: origin + dir * x, z_m: s.swing.touch_down.z_m, yaw };
-                if !self.supported(&s.swing.touch_down, origin, dir) {
+                let td = s.swing.touch_down;
+                let foothold = WorldFoothold {
+                    foot: s.foot,
+                    position: origin + dir * x,
+                    z_m: td.z_m,
+                    yaw,
+                    pitch_rad: td.pitch_rad,
+                };
+                if !self.supported(&s.swing.touch_down, s.foot, origin, dir) {
                     self.invalid += 1;
                 }
+                let lift_off = self.rear;
                 self.rear = self.front;
                 self.front = foothold;
                 self.footholds.push(foothold);
-                Ok((x, PlayedStep { swing: s.swing, origin, dir, profile: profile.clone(), window_m: s.window_m }))
+                let played = PlayedStep {
+                    swing: s.swing,
+                    origin,
+                    dir,
+                    profile: profile.clone(),
+                    window_m: s.window_m,
+                    lift_off,
+                };
+                Ok(played)
             }
             // The goal lies beyond the horizon, so it is never reached from the front foot.
             Decision::Reached => Err("the ground profile ends within reach".into()),
@@ -246,27 +375,39 @@ impl Footing {
         }
     }
 
-    /// Whether the terrain holds the whole sole `sole` (profile coordinates along `dir` from
-    /// `origin`; the sole's horizontal span is the foot length, as the planner's): ground under every point of it, nowhere above it, and under its heel and
-    /// toe (a sole may bridge a hollow, never a hole, a bump or a vertical step).
-    fn supported(&self, sole: &Sole, origin: DVec2, dir: DVec2) -> bool {
-        const TOLERANCE_M: f64 = 1e-6;
+    /// Whether the terrain holds the whole sole `sole` of `foot` (profile coordinates along
+    /// `dir` from `origin`; the sole's horizontal span is the foot length, as the planner's,
+    /// and its width the foot's, half the hip width out on the foot's side): ground under every
+    /// point of both its edges, nowhere above it, and under its heel and toe within the
+    /// tolerance across the strip (a sole may bridge a hollow, never a hole, a bump or a
+    /// vertical step).
+    fn supported(&self, sole: &Sole, foot: Foot, origin: DVec2, dir: DVec2) -> bool {
+        const ABOVE_M: f64 = 1e-6;
         let l = self.params.leg.foot_length_m();
-        // The sole spans [x − L/2, x + L/2] along the profile, on the line of its pitch.
-        let ground = |u: f64| {
-            let dx = (u - 0.5) * l;
-            let z = sole.z_m + dx * sole.pitch_rad.tan();
-            self.terrain.ground(origin + dir * (sole.x_m + dx)).map(|g| g - z)
-        };
-        // The ends: on the ground (just inside, should an edge lie exactly there).
-        let inside = TOLERANCE_M / l;
-        let end = |u: f64, v: f64| [u, v].into_iter().any(|w| ground(w).is_some_and(|d| d.abs() <= TOLERANCE_M));
-        end(0.0, inside)
-            && end(1.0, 1.0 - inside)
-            && (1..SOLE_SAMPLES - 1).all(|k| {
-                let u = k as f64 / (SOLE_SAMPLES - 1) as f64;
-                ground(u).is_some_and(|d| d <= TOLERANCE_M)
-            })
+        let out = if foot == Foot::Left { HIP_HALF_WIDTH_M } else { -HIP_HALF_WIDTH_M };
+        [out - FOOT_HALF_WIDTH_M, out + FOOT_HALF_WIDTH_M].into_iter().all(|offset| {
+            let line = origin + dir.perp() * offset;
+            // The sole spans [x − L/2, x + L/2] along the profile, on the line of its pitch;
+            // the ground's height above it there.
+            let ground = |u: f64| {
+                let dx = (u - 0.5) * l;
+                let z = sole.z_m + dx * sole.pitch_rad.tan();
+                self.terrain.ground(line + dir * (sole.x_m + dx)).map(|g| g - z)
+            };
+            // The ends: on the ground (just inside, should an edge lie exactly there).
+            let inside = ABOVE_M / l;
+            let end = |u: f64, v: f64| {
+                [u, v]
+                    .into_iter()
+                    .any(|w| ground(w).is_some_and(|d| (-ACROSS_TOLERANCE_M - ABOVE_M..=ABOVE_M).contains(&d)))
+            };
+            end(0.0, inside)
+                && end(1.0, 1.0 - inside)
+                && (1..SOLE_SAMPLES - 1).all(|k| {
+                    let u = k as f64 / (SOLE_SAMPLES - 1) as f64;
+                    ground(u).is_some_and(|d| d <= ABOVE_M)
+                })
+        })
     }
 }
 

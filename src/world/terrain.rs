@@ -287,20 +287,67 @@ impl Terrain {
                     }
                 }
             };
-            // Continue the previous piece when it is the same straight line.
-            if let Some(last) = pieces.last_mut()
-                && last.x1_m == a
-                && last.z1_m == za
-                && ((zb - za) / (b - a) - last.rise_per_m()).abs() < 1e-12
-            {
-                last.x1_m = b;
-                last.z1_m = zb;
-                continue;
-            }
-            pieces.push(GroundPiece { x0_m: a, z0_m: za, x1_m: b, z1_m: zb });
+            push_piece(&mut pieces, GroundPiece { x0_m: a, z0_m: za, x1_m: b, z1_m: zb });
         }
         GroundProfile::new(pieces).ok()
     }
+}
+
+impl Terrain {
+    /// The ground under a strip along the path: the profiles of the lines at `offsets` metres
+    /// to the left of the vertical plane through `origin` along `dir` (see
+    /// [`Terrain::profile`]), taken together. There is ground at X only where every line has
+    /// some and their heights there differ by at most `tolerance_m`, at the highest of them; a
+    /// hole or an edge under any line is a gap. `None` when no ground is left.
+    pub fn strip_profile(
+        &self,
+        origin: DVec2,
+        dir: DVec2,
+        x0_m: f64,
+        x1_m: f64,
+        offsets: &[f64],
+        tolerance_m: f64,
+    ) -> Option<GroundProfile> {
+        let side = dir.normalize_or_zero().perp();
+        let lines: Vec<GroundProfile> =
+            offsets.iter().map(|&o| self.profile(origin + side * o, dir, x0_m, x1_m)).collect::<Option<_>>()?;
+        let mut cuts: Vec<f64> = lines.iter().flat_map(|l| l.pieces().iter().flat_map(|p| [p.x0_m, p.x1_m])).collect();
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|b, a| (*b - *a).abs() <= PROFILE_EPS_M);
+        let mut pieces: Vec<GroundPiece> = Vec::new();
+        'span: for w in cuts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let mid = 0.5 * (a + b);
+            let (mut za, mut zb) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
+            for line in &lines {
+                let Some(p) = line.pieces().iter().find(|p| p.x0_m < mid && mid < p.x1_m) else {
+                    continue 'span;
+                };
+                let (ha, hb) = (p.height_at(a), p.height_at(b));
+                za = [za[0].min(ha), za[1].max(ha)];
+                zb = [zb[0].min(hb), zb[1].max(hb)];
+            }
+            if za[1] - za[0] > tolerance_m || zb[1] - zb[0] > tolerance_m {
+                continue;
+            }
+            push_piece(&mut pieces, GroundPiece { x0_m: a, z0_m: za[1], x1_m: b, z1_m: zb[1] });
+        }
+        GroundProfile::new(pieces).ok()
+    }
+}
+
+/// Appends `piece`, continuing the last one when it is the same straight line.
+fn push_piece(pieces: &mut Vec<GroundPiece>, piece: GroundPiece) {
+    if let Some(last) = pieces.last_mut()
+        && last.x1_m == piece.x0_m
+        && last.z1_m == piece.z0_m
+        && (piece.rise_per_m() - last.rise_per_m()).abs() < 1e-12
+    {
+        last.x1_m = piece.x1_m;
+        last.z1_m = piece.z1_m;
+        return;
+    }
+    pieces.push(piece);
 }
 
 /// The parameter range `[a, b]` within `[t0, t1]` over which `origin + t·dir` lies in `shape`.
@@ -345,6 +392,8 @@ fn clip(shape: &Shape, origin: DVec2, dir: DVec2, t0: f64, t1: f64) -> Option<(f
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::FRAC_PI_2;
+
     use super::*;
 
     fn boxed(cx: f64, cy: f64, w: f64, h: f64) -> ObstacleShape {
@@ -406,6 +455,53 @@ mod tests {
         // A diagonal cut crosses the treads at the same heights.
         let d = t.profile(DVec2::new(0.0, -1.0), DVec2::new(1.0, 0.3).normalize(), 0.0, 5.0).unwrap();
         assert!(d.pieces().iter().any(|q| (q.z0_m - 0.4).abs() < 1e-12));
+    }
+
+    #[test]
+    fn a_strip_is_ground_only_where_every_line_agrees() {
+        let t = Terrain::from_features(vec![
+            // A hole beside the path: under the left lines only.
+            TerrainFeature::new(boxed(2.0, 0.12, 0.4, 0.1), FeatureKind::Hole).unwrap(),
+            // A step crossed at an angle: its edge is at different X on each line.
+            TerrainFeature::new(
+                ObstacleShape::Box { center: DVec2::new(5.0, 0.0), width: 2.0, height: 2.0, yaw: 0.3 },
+                FeatureKind::Platform { z_m: 0.2 },
+            )
+            .unwrap(),
+            // A gentle slope across the path: heights differ by under 2 cm across the strip.
+            TerrainFeature::new(
+                ObstacleShape::Box { center: DVec2::new(8.0, 0.0), width: 2.0, height: 1.0, yaw: FRAC_PI_2 },
+                FeatureKind::Slope { z0_m: 0.0, z1_m: 0.12 },
+            )
+            .unwrap(),
+        ]);
+        let offsets = [-0.14, -0.04, 0.04, 0.14];
+        let centre = t.profile(DVec2::ZERO, DVec2::X, 0.0, 10.0).unwrap();
+        let strip = t.strip_profile(DVec2::ZERO, DVec2::X, 0.0, 10.0, &offsets, 0.03).unwrap();
+        // The centre line sees no hole; the strip does.
+        assert_eq!(centre.height_at(2.0), Some(0.0));
+        assert_eq!(strip.height_at(2.0), None);
+        assert_eq!(strip.height_at(1.7), Some(0.0));
+        // Where the lines cross the step's edge at different X, there is no foothold; on the
+        // step's top there is.
+        let edge = [-0.14, 0.14].map(|y| t.profile(DVec2::new(0.0, y), DVec2::X, 0.0, 10.0).unwrap());
+        let starts = edge.map(|p| p.pieces().iter().find(|q| q.z0_m == 0.2).unwrap().x0_m);
+        let (lo, hi) = (starts[0].min(starts[1]), starts[0].max(starts[1]));
+        assert!(hi - lo > 0.05, "{starts:?}");
+        assert_eq!(strip.height_at(0.5 * (lo + hi)), None);
+        assert_eq!(strip.height_at(5.0), Some(0.2));
+        // Across the slope the strip stands at its highest line.
+        let z = strip.height_at(8.0).unwrap();
+        assert!((z - t.ground(DVec2::new(8.0, 0.14)).unwrap()).abs() < 1e-9 && z > 0.06 + 0.005, "{z}");
+        // Every point of the strip is ground on every line, within the tolerance, at the highest.
+        for x in (0..1000).map(|i| 0.005 + i as f64 * 0.01) {
+            if let Some(z) = strip.height_at(x) {
+                for y in offsets {
+                    let g = t.ground(DVec2::new(x, y));
+                    assert!(g.is_some_and(|g| g <= z + 1e-9 && g >= z - 0.03), "x {x} y {y}: {g:?} vs {z}");
+                }
+            }
+        }
     }
 
     #[test]

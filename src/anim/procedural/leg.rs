@@ -30,16 +30,35 @@ pub(crate) struct Rig {
 impl Rig {
     /// The indices in `s` (the built-in actor).
     pub(crate) fn of(s: &Skeleton) -> Rig {
-        let f = |n: &str| s.find(n).expect("the actor has every named joint");
+        Rig::find(s).expect("the actor has every named joint")
+    }
+
+    /// The indices in `s` when it is built like the actor: every named joint present, each
+    /// leg a hip, knee and ankle chain with the actor's bone lengths. `None` for any other
+    /// skeleton (an imported motion-capture rig).
+    pub(crate) fn find(s: &Skeleton) -> Option<Rig> {
+        let f = |n: &str| s.find(n);
         use actor::*;
-        Rig {
-            chest: f(CHEST),
-            arm: [f(LEFT_ARM), f(RIGHT_ARM)],
-            fore_arm: [f(LEFT_FORE_ARM), f(RIGHT_FORE_ARM)],
-            up_leg: [f(LEFT_UP_LEG), f(RIGHT_UP_LEG)],
-            leg: [f(LEFT_LEG), f(RIGHT_LEG)],
-            foot: [f(LEFT_FOOT), f(RIGHT_FOOT)],
-        }
+        let rig = Rig {
+            chest: f(CHEST)?,
+            arm: [f(LEFT_ARM)?, f(RIGHT_ARM)?],
+            fore_arm: [f(LEFT_FORE_ARM)?, f(RIGHT_FORE_ARM)?],
+            up_leg: [f(LEFT_UP_LEG)?, f(RIGHT_UP_LEG)?],
+            leg: [f(LEFT_LEG)?, f(RIGHT_LEG)?],
+            foot: [f(LEFT_FOOT)?, f(RIGHT_FOOT)?],
+        };
+        let j = s.joints();
+        let close = |a: DVec3, b: DVec3| (a - b).length() < 1e-6;
+        let built_like_the_actor = (0..2).all(|i| {
+            let hip = &j[rig.up_leg[i]];
+            hip.parent == Some(0)
+                && close(hip.offset, DVec3::new(0.0, SIDES[i] * HIP_HALF_WIDTH_M, 0.0))
+                && j[rig.leg[i]].parent == Some(rig.up_leg[i])
+                && close(j[rig.leg[i]].offset, DVec3::new(0.0, 0.0, -THIGH_M))
+                && j[rig.foot[i]].parent == Some(rig.leg[i])
+                && close(j[rig.foot[i]].offset, DVec3::new(0.0, 0.0, -SHIN_M))
+        });
+        built_like_the_actor.then_some(rig)
     }
 }
 
@@ -207,6 +226,20 @@ mod tests {
         assert_eq!(knee, 0.0);
         assert!(abduction.abs() < 1e-12 && (flex + 0.5f64.atan2(1.0)).abs() < 1e-12);
         assert!((reach_of_knee(0.0) - 0.88).abs() < 1e-12 && reach_of_knee(1.0) < 0.8);
+    }
+
+    #[test]
+    fn only_a_skeleton_built_like_the_actor_has_its_rig() {
+        let s = actor::actor();
+        assert!(Rig::find(&s).is_some());
+        // The same names with a longer shin (an imported rig): not the actor's legs.
+        let mut joints = s.joints().to_vec();
+        let shin = s.find(actor::LEFT_FOOT).unwrap();
+        joints[shin].offset.z -= 0.05;
+        assert!(Rig::find(&Skeleton::new(joints).unwrap()).is_none());
+        let mut joints = s.joints().to_vec();
+        joints[s.find(actor::RIGHT_LEG).unwrap()].name = "RightKnee".into();
+        assert!(Rig::find(&Skeleton::new(joints).unwrap()).is_none());
     }
 
     #[test]
