@@ -6,6 +6,7 @@
 //! Pure core: nothing here does IO except through the caller's strings and bytes.
 
 pub mod actor;
+pub mod body;
 pub mod bvh;
 pub mod clip;
 pub mod db;

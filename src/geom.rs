@@ -1,4 +1,5 @@
-//! Planar geometry for obstacle hulls and sensing.
+//! Planar geometry for obstacle hulls and sensing, and the prisms they sweep in three
+//! dimensions ([`Prism`], against the body's [`Capsule`]s).
 //!
 //! This module is the geometric core of the world: convex obstacle polygons and circles, their
 //! distance / containment / ray queries, decomposition of non-convex outlines into convex
@@ -26,6 +27,7 @@ mod decompose;
 mod index;
 mod polygon;
 mod predicates;
+mod prism;
 mod shape;
 
 pub use aabb::Aabb;
@@ -33,6 +35,7 @@ pub use decompose::decompose;
 pub use index::SpatialIndex;
 pub use polygon::{ConvexPolygon, Obb};
 pub use predicates::orientation;
+pub use prism::{Capsule, Prism};
 pub use shape::Shape;
 
 use glam::DVec2;

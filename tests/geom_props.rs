@@ -282,3 +282,56 @@ fn check_decomposition(outline: &[DVec2]) -> Result<(), TestCaseError> {
     }
     Ok(())
 }
+
+/// A point in three dimensions.
+fn point3(range: f64) -> impl Strategy<Value = glam::DVec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| glam::DVec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The prism's signed distance agrees with containment, is 1-Lipschitz, and equals the
+    /// distance to the prism's surface sampled independently (the outline's boundary and the
+    /// caps) from outside.
+    #[test]
+    fn prism_distance_is_the_distance_to_the_solid(
+        poly in polygon(), circle in (point(30.0), 0.5..20.0f64), use_circle in any::<bool>(),
+        z in (-5.0..5.0f64, 0.1..10.0f64), p in point3(60.0), q in point3(60.0)
+    ) {
+        use strider::geom::Prism;
+        let base = if use_circle { Shape::circle(circle.0, circle.1).unwrap() } else { Shape::Polygon(poly) };
+        let prism = Prism { base: &base, z_min: z.0, z_max: z.0 + z.1 };
+        let d = prism.signed_distance(p);
+        let inside = base.contains(p.truncate()) && (prism.z_min..=prism.z_max).contains(&p.z);
+        prop_assert_eq!(d <= 0.0, inside, "{} at {}", d, p);
+        prop_assert!((d - prism.signed_distance(q)).abs() <= p.distance(q) + 1e-9);
+        if !inside {
+            // The nearest point of the solid: the outline's closest point, at the height
+            // clamped into the interval.
+            let flat = base.closest_point(p.truncate());
+            let nearest = flat.extend(p.z.clamp(prism.z_min, prism.z_max));
+            prop_assert!((d - p.distance(nearest)).abs() < 1e-9, "{} vs {}", d, p.distance(nearest));
+        }
+    }
+
+    /// The segment's distance is the least of the distances of its points: never above any
+    /// sample, and below the densest samples by no more than their spacing allows.
+    #[test]
+    fn segment_distance_is_the_least_over_the_segment(
+        poly in polygon(), z in (-5.0..5.0f64, 0.1..10.0f64), a in point3(60.0), b in point3(60.0), r in 0.0..2.0f64
+    ) {
+        use strider::geom::{Capsule, Prism};
+        let base = Shape::Polygon(poly);
+        let prism = Prism { base: &base, z_min: z.0, z_max: z.0 + z.1 };
+        let (d, t) = prism.segment_distance(a, b);
+        prop_assert!((0.0..=1.0).contains(&t));
+        prop_assert!((d - prism.signed_distance(a.lerp(b, t))).abs() < 1e-9);
+        const N: usize = 2000;
+        let sampled = (0..=N).map(|i| prism.signed_distance(a.lerp(b, i as f64 / N as f64))).fold(f64::INFINITY, f64::min);
+        prop_assert!(d <= sampled + 1e-9, "{} above a sample {}", d, sampled);
+        prop_assert!(d >= sampled - a.distance(b) / (2 * N) as f64 - 1e-9, "{} far below the samples {}", d, sampled);
+        let c = Capsule { a, b, radius: r };
+        prop_assert!((prism.capsule_clearance(&c) - (d - r)).abs() < 1e-12);
+    }
+}
