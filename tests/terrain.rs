@@ -370,7 +370,9 @@ mod character {
             m
         "#;
         let s = map(src, "wide_gap.rhai");
-        let mut sim = Simulation::new(s.world(), params());
+        let mut p = params();
+        p.record_motion = true;
+        let mut sim = Simulation::new(s.world(), p);
         sim.add_agent(s.tasks[0], &controller());
         while !sim.all_done() {
             sim.step();
@@ -382,6 +384,17 @@ mod character {
         let reason = f.stopped().expect("stopped");
         assert!(reason.contains("no sequence of steps"), "{reason}");
         assert!(sim.agents[0].outcome != Some(strider::sim::Outcome::Reached));
+        // Standing at the edge, both soles rest on the last two footholds.
+        use strider::anim::actor::{HEEL_POINT, LEFT_FOOT, RIGHT_FOOT, TOE_POINT};
+        let sk = &body.animation().db.skeleton;
+        let mut g = Vec::new();
+        sk.globals(body.motion().unwrap().last().unwrap(), &mut g);
+        let taken = f.footholds();
+        for h in &taken[taken.len() - 2..] {
+            let (ankle, q) = g[sk.find([LEFT_FOOT, RIGHT_FOOT][h.foot.index()]).unwrap()];
+            let sole = 0.5 * (ankle + q * HEEL_POINT + ankle + q * TOE_POINT);
+            assert!(sole.distance(h.sole_centre().extend(h.z_m)) < 0.01, "{h:?}: sole at {sole}");
+        }
     }
 
     #[test]

@@ -9,9 +9,10 @@
 //! the planned hip along the step's line ([`Footing::root_at`]; across the line and in heading
 //! it moves as the interval does), and the legs are the planned ones: the swinging sole on
 //! its Bezier curve, two-link inverse kinematics, the pelvis height following the ground
-//! ([`Footing::pose_legs`], [`Swing::pose_at`]); the upper body is the database's. When the planner stops — no sequence of steps reaches
-//! further — the character stands (its root holds) and [`Footing::stopped`] says why; it never
-//! takes an invalid foothold. Intervals that stay in place, or whose step is shorter than
+//! ([`Footing::pose_legs`], [`Swing::pose_at`]); the upper body is the database's. When the
+//! planner stops — no sequence of steps reaches further — the character stands (its root
+//! holds, its feet on their footholds) and [`Footing::stopped`] says why; it never takes an
+//! invalid foothold. Intervals that stay in place, or whose step is shorter than
 //! half the shortest step, keep the feet where they are.
 //!
 //! Every foothold taken is checked again against the terrain itself
@@ -221,8 +222,9 @@ impl Footing {
     /// the swinging sole along its Bezier curve from one foothold to the next, each sole
     /// beside the path ([`WorldFoothold::sole_centre`]) with the ground's pitch, the pelvis at
     /// the planned hip height;
-    /// otherwise (intervals in place, standing, stopped) each foot keeps the database's motion
-    /// raised onto the height of its own foothold, and the pelvis rises by the mean of the two.
+    /// while stopped both soles stay on their footholds; otherwise (intervals in place,
+    /// standing) each foot keeps the database's motion raised onto the height of its own
+    /// foothold. Without a planned step the pelvis rises by the mean height of the footholds.
     /// Either way the pelvis comes down where a leg could not reach its target, and both legs
     /// are solved by two-link inverse kinematics with the knees forward; the upper body is the
     /// database's. A skeleton not built like the actor (an imported rig) keeps its database
@@ -267,16 +269,27 @@ impl Footing {
                 skeleton.globals(pose, &mut globals);
                 let mut rise = 0.0;
                 for (i, target) in targets.iter_mut().enumerate() {
-                    let (ankle, q) = globals[rig.foot[i]];
-                    let z = by_foot(i).z_m;
-                    rise += 0.5 * z;
-                    let forward = q * DVec3::X;
-                    *target = FootTarget {
-                        point: ankle + DVec3::new(0.0, 0.0, z),
-                        local: DVec3::ZERO,
-                        yaw: root_yaw,
-                        pitch: (-forward.z).clamp(-1.0, 1.0).asin(),
-                        planted: true,
+                    let held = by_foot(i);
+                    rise += 0.5 * held.z_m;
+                    *target = if self.stopped.is_some() {
+                        let at = held.sole_centre();
+                        FootTarget {
+                            point: DVec3::new(at.x, at.y, held.z_m),
+                            local: sole_point(0.5),
+                            yaw: root_yaw,
+                            pitch: -held.pitch_rad,
+                            planted: true,
+                        }
+                    } else {
+                        let (ankle, q) = globals[rig.foot[i]];
+                        let forward = q * DVec3::X;
+                        FootTarget {
+                            point: ankle + DVec3::new(0.0, 0.0, held.z_m),
+                            local: DVec3::ZERO,
+                            yaw: root_yaw,
+                            pitch: (-forward.z).clamp(-1.0, 1.0).asin(),
+                            planted: true,
+                        }
                     };
                 }
                 hip_z = pose.root.z + rise;
@@ -286,8 +299,12 @@ impl Footing {
         for (i, target) in targets.iter().enumerate() {
             let hip = pose.root + rot * DVec3::new(0.0, SIDES[i] * HIP_HALF_WIDTH_M, 0.0);
             let ankle = target.ankle();
-            let flat = (ankle - hip).truncate().length().min(MAX_REACH_M);
-            hip_z = hip_z.min(ankle.z + (MAX_REACH_M * MAX_REACH_M - flat * flat).sqrt());
+            // A target farther than the leg reaches in the plan view is pointed at by the
+            // straight leg: lowering the pelvis would not bring it closer.
+            let flat = (ankle - hip).truncate().length();
+            if flat < MAX_REACH_M {
+                hip_z = hip_z.min(ankle.z + (MAX_REACH_M * MAX_REACH_M - flat * flat).sqrt());
+            }
         }
         pose.root.z = hip_z;
         for (i, target) in targets.iter().enumerate() {
