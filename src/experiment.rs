@@ -83,6 +83,19 @@ pub struct EpisodeRecord {
     /// Animated body on uneven terrain, when the run lends a stopwatch
     /// ([`StepParameters::stopwatch`]): 99th percentile of the planning time per step, ms.
     pub footstep_planning_ms_p99: Option<f64>,
+    /// Animated body among obstacles its upper body can touch: least clearance of the upper
+    /// body's capsules from them over the frames played, metres (absent when nothing came
+    /// within a metre).
+    pub upper_body_min_clearance_m: Option<f64>,
+    /// Animated body: deepest forward bend of the waist the upper-body planner added, degrees.
+    pub max_waist_bend_deg: Option<f64>,
+    /// Animated body: largest waist twist the upper-body planner added, degrees.
+    pub max_waist_twist_deg: Option<f64>,
+    /// Animated body: switch points at which the upper body refused a step the legs could take.
+    pub upper_body_refused_steps: Option<u64>,
+    /// Animated body among such obstacles, when the run lends a stopwatch: upper-body planning
+    /// time per frame played, ms.
+    pub upper_body_ms_per_frame: Option<f64>,
 }
 
 /// One value of an [`EpisodeRecord`].
@@ -114,7 +127,7 @@ impl From<Option<u64>> for Field<'_> {
 
 impl EpisodeRecord {
     /// Every field, named, in the order output formats list them.
-    pub fn fields(&self) -> [(&'static str, Field<'_>); 29] {
+    pub fn fields(&self) -> [(&'static str, Field<'_>); 34] {
         use Field::{Count, Flag, Number, Text};
         [
             ("episode", Count(self.episode as u64)),
@@ -146,6 +159,11 @@ impl EpisodeRecord {
             ("invalid_footholds", self.invalid_footholds.map(u64::from).into()),
             ("footsteps_planned", self.footsteps_planned.into()),
             ("footstep_planning_ms_p99", self.footstep_planning_ms_p99.into()),
+            ("upper_body_min_clearance_m", self.upper_body_min_clearance_m.into()),
+            ("max_waist_bend_deg", self.max_waist_bend_deg.into()),
+            ("max_waist_twist_deg", self.max_waist_twist_deg.into()),
+            ("upper_body_refused_steps", self.upper_body_refused_steps.into()),
+            ("upper_body_ms_per_frame", self.upper_body_ms_per_frame.into()),
         ]
     }
 }
@@ -272,6 +290,7 @@ pub fn run_episode_with(
     let playback = animated.map(|a| a.metrics());
     let tracking = animated.map(|a| a.tracking);
     let footing = animated.and_then(|a| a.footing());
+    let upper = animated.and_then(|a| a.upper_body()).map(|u| u.figures());
     let record = EpisodeRecord {
         episode,
         scenario: scenario.name.clone(),
@@ -302,6 +321,11 @@ pub fn run_episode_with(
         invalid_footholds: footing.map(|f| f.invalid_footholds()),
         footsteps_planned: footing.map(|f| f.plans()),
         footstep_planning_ms_p99: footing.and_then(|f| p99(f.planning_times_s())).map(|s| s * 1e3),
+        upper_body_min_clearance_m: upper.map(|u| u.min_clearance_m).filter(|d| d.is_finite()),
+        max_waist_bend_deg: animated.map(|_| upper.map_or(0.0, |u| u.max_bend_rad.to_degrees())),
+        max_waist_twist_deg: animated.map(|_| upper.map_or(0.0, |u| u.max_twist_rad.to_degrees())),
+        upper_body_refused_steps: animated.map(|_| upper.map_or(0, |u| u.refused_steps)),
+        upper_body_ms_per_frame: upper.and_then(|u| u.planning_s.map(|s| s * 1e3 / u.frames.max(1) as f64)),
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
     Episode { record, trail: agent.trail.clone(), motion }

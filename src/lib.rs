@@ -29,4 +29,5 @@ pub mod script;
 pub mod sim;
 pub mod snapshot;
 pub mod tui;
+pub mod upper;
 pub mod world;

@@ -54,7 +54,9 @@ pub(crate) fn first_blocked_task(scenario: &Scenario, world: &World) -> Option<(
         let mut best: Option<usize> = None;
         for &i in scratch.iter() {
             let part = &world.parts()[i];
-            if part.shape.distance(p) < r && best.is_none_or(|b| part.obstacle < b) {
+            // Overhead obstacles leave the legs room: a task may start or end under one.
+            let overhead = world.obstacles()[part.obstacle].band() == crate::world::obstacle::Band::Upper;
+            if !overhead && part.shape.distance(p) < r && best.is_none_or(|b| part.obstacle < b) {
                 best = Some(part.obstacle);
             }
         }

@@ -9,6 +9,7 @@
 use glam::DVec2;
 
 use crate::geom::Shape;
+use crate::world::obstacle::Band;
 use crate::world::{Obstacle, Task, Terrain, World};
 
 /// Default agent radius, metres.
@@ -75,16 +76,15 @@ impl Scenario {
         }
     }
 
-    /// The world the tasks run in. Obstacles low enough to step onto or over
-    /// ([`Terrain::is_low`]) are part of its terrain, not walls, once the map has any terrain
-    /// feature or low obstacle; a map with neither is the flat world of its obstacles.
+    /// The world the tasks run in, its obstacles sorted into three bands ([`Band`]):
+    /// obstacles low enough to step onto or over ([`Terrain::is_low`]) are part of its terrain,
+    /// not walls; obstacles above the legs ([`Band::Upper`]) are the upper body's
+    /// ([`World::overhead`]); the rest are the navigation's walls.
     pub fn world(&self) -> World {
         let terrain = self.terrain.with_low_obstacles(&self.obstacles);
-        let mut world = if terrain.is_flat() {
-            World::new(self.obstacles.clone())
-        } else {
-            World::new(self.obstacles.iter().filter(|o| !Terrain::is_low(o)).cloned().collect())
-        };
+        let band = |b: Band| self.obstacles.iter().filter(move |o| o.band() == b).cloned();
+        let mut world = World::new(band(Band::Legs).collect());
+        world.overhead = band(Band::Upper).collect();
         world.terrain = terrain;
         world.footsteps = self.footsteps;
         world
@@ -99,7 +99,10 @@ impl Scenario {
             return Err("no task: give a start and a goal".into());
         }
         let inside = |p: DVec2| -> Option<usize> {
-            self.obstacles.iter().position(|o| o.parts.iter().any(|s: &Shape| s.distance(p) < self.agent_radius))
+            // Overhead obstacles leave the legs room: a task may start or end under one.
+            self.obstacles.iter().position(|o| {
+                o.band() != Band::Upper && o.parts.iter().any(|s: &Shape| s.distance(p) < self.agent_radius)
+            })
         };
         for (i, t) in self.tasks.iter().enumerate() {
             let n = i + 1;

@@ -12,6 +12,7 @@ pub mod controller;
 pub mod follow;
 pub mod footing;
 pub mod memory;
+pub mod upper_body;
 
 use glam::DVec2;
 
@@ -242,12 +243,22 @@ pub struct Simulation {
     pub time_s: f64,
     scratch: Vec<usize>,
     others: Vec<(DVec2, f64)>,
+    /// What the upper bodies of animated agents plan around, built with the first of them.
+    solids: Option<std::sync::Arc<crate::upper::Solids>>,
 }
 
 impl Simulation {
     /// An empty simulation of `world`.
     pub fn new(world: World, params: StepParameters) -> Simulation {
-        Simulation { world, agents: Vec::new(), params, time_s: 0.0, scratch: Vec::new(), others: Vec::new() }
+        Simulation {
+            world,
+            agents: Vec::new(),
+            params,
+            time_s: 0.0,
+            scratch: Vec::new(),
+            others: Vec::new(),
+            solids: None,
+        }
     }
 
     /// Adds an agent at the task's start with its own copy of `controller`.
@@ -265,6 +276,23 @@ impl Simulation {
                         at,
                         self.params.stopwatch.clone(),
                     ));
+                }
+                if self.world.upper_body_matters() {
+                    let solids = self
+                        .solids
+                        .get_or_insert_with(|| std::sync::Arc::new(crate::upper::Solids::new(self.world.solids())));
+                    let terrain =
+                        (!self.world.terrain.is_flat()).then(|| std::sync::Arc::new(self.world.terrain.clone()));
+                    let h = 1.0 / a.0.player.frame_rate;
+                    if let Some(upper) = upper_body::UpperBodyState::new(
+                        &a.0.db.skeleton,
+                        std::sync::Arc::clone(solids),
+                        terrain,
+                        self.params.stopwatch.clone(),
+                        h,
+                    ) {
+                        body.set_upper_body(upper);
+                    }
                 }
                 if self.params.record_motion {
                     body.record_motion();

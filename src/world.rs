@@ -42,6 +42,9 @@ pub struct World {
     pub terrain: Terrain,
     /// The footstep planner's parameters for characters walking on its terrain.
     pub footsteps: crate::footstep::FootstepParams,
+    /// Obstacles above the legs ([`obstacle::Band::Upper`]: overhead bars, shelves), which the
+    /// navigation does not see and the upper body plans around.
+    pub overhead: Vec<Obstacle>,
 }
 
 impl World {
@@ -56,7 +59,26 @@ impl World {
         let boxes: Vec<Aabb> = parts.iter().map(|p| p.shape.aabb()).collect();
         let bounds = boxes.iter().copied().reduce(|a, b| a.union(&b));
         let index = SpatialIndex::build(&boxes);
-        World { obstacles, parts, index, bounds, terrain: Terrain::Flat, footsteps: Default::default() }
+        World {
+            obstacles,
+            parts,
+            index,
+            bounds,
+            terrain: Terrain::Flat,
+            footsteps: Default::default(),
+            overhead: Vec::new(),
+        }
+    }
+
+    /// True when the upper body has something to plan about: an overhead obstacle, or one in
+    /// the legs' way that does not stand on the ground as tall as the body.
+    pub fn upper_body_matters(&self) -> bool {
+        !self.overhead.is_empty() || self.obstacles.iter().any(|o| o.z_min > 0.0 || o.z_max < obstacle::BODY_TOP_M)
+    }
+
+    /// Every obstacle the body can touch: the navigation's and the overhead ones.
+    pub fn solids(&self) -> impl Iterator<Item = &Obstacle> {
+        self.obstacles.iter().chain(&self.overhead)
     }
 
     /// The obstacles, in the order given.

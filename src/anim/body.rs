@@ -1,12 +1,17 @@
-//! The upper body's collision geometry (seed 002 §5; DESIGN.md §5): capsules for the torso, the
-//! head, the upper arms and the forearms of the built-in actor, posed by forward kinematics,
-//! and their clearance from the obstacles' prisms ([`crate::geom::Prism`]).
+//! The upper body's collision geometry and configuration (seed 002 §5; DESIGN.md §5):
+//! capsules for the torso, the head, the upper arms and the forearms of the built-in actor,
+//! posed by forward kinematics, their clearance from the obstacles' prisms
+//! ([`crate::geom::Prism`]), and the offsets the upper-body planner adds to the database's
+//! motion ([`UpperConfig`]).
 //!
 //! The capsules run between the actor's joints: the torso from the waist joint to the base of
-//! the neck, the head from there to the top of the head, each upper arm from the shoulder to
-//! the elbow and each forearm from the elbow to the middle of the hand. Their radii
-//! ([`TORSO_RADIUS_M`] …) are an adult's; with the shoulders 0.36 m apart the arms' capsules
-//! make the body 0.46 m wide at the shoulders.
+//! the neck, the head from the base of the skull to the top of the head (its rounded end at the
+//! top, so the actor stands 1.75 m tall), each upper arm from the shoulder to the elbow and each
+//! forearm from the elbow to the middle of the hand. Their radii ([`TORSO_RADIUS_M`] …) are an
+//! adult's; with the shoulders 0.36 m apart the arms' capsules make the body 0.46 m wide at the
+//! shoulders, and turned side-on the chest is 0.22 m deep.
+
+use glam::{DQuat, DVec3};
 
 use super::actor::{CHEST, HEAD, LEFT_ARM, LEFT_FORE_ARM, NECK, RIGHT_ARM, RIGHT_FORE_ARM};
 use super::skeleton::{Pose, Skeleton};
@@ -14,7 +19,7 @@ use crate::geom::{Capsule, Prism};
 use crate::world::Obstacle;
 
 /// Radius of the torso's capsule, metres.
-pub const TORSO_RADIUS_M: f64 = 0.13;
+pub const TORSO_RADIUS_M: f64 = 0.11;
 /// Radius of the head's capsule, metres.
 pub const HEAD_RADIUS_M: f64 = 0.09;
 /// Radius of an upper arm's capsule, metres.
@@ -27,7 +32,7 @@ pub const FOREARM_RADIUS_M: f64 = 0.045;
 pub enum Part {
     /// Waist to the base of the neck.
     Torso,
-    /// Base of the neck to the top of the head.
+    /// Base of the skull to the top of the head.
     Head,
     /// Shoulder to elbow; 0 left, 1 right.
     UpperArm(usize),
@@ -35,44 +40,196 @@ pub enum Part {
     Forearm(usize),
 }
 
-/// The joints the capsules hang on, found once per skeleton.
+/// Which capsules [`UpperBody::place`] builds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parts {
+    /// All six.
+    All,
+    /// The torso, the head and the shoulder joints (what the waist moves; the arms' capsules
+    /// shrunk to balls at the shoulders).
+    Trunk,
+    /// One arm's two capsules; 0 left, 1 right.
+    Arm(usize),
+}
+
+/// Offsets the upper-body planner adds to the database's upper-body motion, radians. All zero
+/// is the database's motion unchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UpperConfig {
+    /// The waist: bend forward, twist to the left (about the spine).
+    pub waist: [f64; 2],
+    /// Each arm (0 left, 1 right): flex forward at the shoulder, abduction (outward), twist
+    /// (the upper arm turned outward), elbow bend.
+    pub arms: [[f64; 4]; 2],
+}
+
+impl UpperConfig {
+    /// The waist's local rotation offset.
+    pub fn waist_rotation(&self) -> DQuat {
+        DQuat::from_rotation_y(self.waist[0]) * DQuat::from_rotation_z(self.waist[1])
+    }
+
+    /// Arm `side`'s shoulder and elbow rotation offsets (mirrored for the right arm).
+    pub fn arm_rotations(&self, side: usize) -> (DQuat, DQuat) {
+        let s = if side == 0 { 1.0 } else { -1.0 };
+        let [flex, abduction, twist, elbow] = self.arms[side];
+        let shoulder =
+            DQuat::from_rotation_y(-flex) * DQuat::from_rotation_x(s * abduction) * DQuat::from_rotation_z(-s * twist);
+        (shoulder, DQuat::from_rotation_y(-elbow))
+    }
+
+    /// Linear interpolation toward `other` by `t ∈ [0, 1]`.
+    pub fn lerp(&self, other: &UpperConfig, t: f64) -> UpperConfig {
+        let l = |a: f64, b: f64| a + (b - a) * t;
+        UpperConfig {
+            waist: [l(self.waist[0], other.waist[0]), l(self.waist[1], other.waist[1])],
+            arms: [0, 1].map(|s| [0, 1, 2, 3].map(|k| l(self.arms[s][k], other.arms[s][k]))),
+        }
+    }
+}
+
+/// The upper body's joints in one frame: the hips' global placement and the database's local
+/// rotations of the joints above them (see [`UpperBody::frame`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UpperFrame {
+    hips: (DVec3, DQuat),
+    chest: DQuat,
+    neck: DQuat,
+    head: DQuat,
+    arm: [DQuat; 2],
+    fore_arm: [DQuat; 2],
+}
+
+impl UpperFrame {
+    /// Where the hips are, world.
+    pub fn hips(&self) -> DVec3 {
+        self.hips.0
+    }
+}
+
+/// The joints the capsules hang on and the bones between them, found once per skeleton.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UpperBody {
     chest: usize,
     neck: usize,
     head: usize,
     arm: [usize; 2],
     fore_arm: [usize; 2],
+    chest_offset: DVec3,
+    neck_offset: DVec3,
+    head_offset: DVec3,
+    head_tip: DVec3,
+    arm_offset: [DVec3; 2],
+    fore_arm_offset: [DVec3; 2],
+    hand_tip: [DVec3; 2],
 }
 
 impl UpperBody {
-    /// The upper body of `skeleton`, when it has the actor's named joints (`None` for an
+    /// The upper body of `skeleton`, when it has the actor's named joints in the actor's
+    /// hierarchy (the chest on the root, the neck and the arms on the chest; `None` for an
     /// imported rig).
     pub fn of(skeleton: &Skeleton) -> Option<UpperBody> {
         let f = |n: &str| skeleton.find(n);
+        let j = skeleton.joints();
+        let (chest, neck, head) = (f(CHEST)?, f(NECK)?, f(HEAD)?);
+        let (arm, fore_arm) = ([f(LEFT_ARM)?, f(RIGHT_ARM)?], [f(LEFT_FORE_ARM)?, f(RIGHT_FORE_ARM)?]);
+        let chained = j[chest].parent == Some(0)
+            && j[neck].parent == Some(chest)
+            && j[head].parent == Some(neck)
+            && (0..2).all(|s| j[arm[s]].parent == Some(chest) && j[fore_arm[s]].parent == Some(arm[s]));
+        if !chained {
+            return None;
+        }
         Some(UpperBody {
-            chest: f(CHEST)?,
-            neck: f(NECK)?,
-            head: f(HEAD)?,
-            arm: [f(LEFT_ARM)?, f(RIGHT_ARM)?],
-            fore_arm: [f(LEFT_FORE_ARM)?, f(RIGHT_FORE_ARM)?],
+            chest,
+            neck,
+            head,
+            arm,
+            fore_arm,
+            chest_offset: j[chest].offset,
+            neck_offset: j[neck].offset,
+            head_offset: j[head].offset,
+            head_tip: j[head].end_site?,
+            arm_offset: arm.map(|a| j[a].offset),
+            fore_arm_offset: fore_arm.map(|a| j[a].offset),
+            hand_tip: [j[fore_arm[0]].end_site?, j[fore_arm[1]].end_site?],
         })
     }
 
-    /// The six capsules of `pose` (in the pose's frame: world, for a world pose), into `out`.
-    pub fn capsules(&self, skeleton: &Skeleton, pose: &Pose, out: &mut Vec<(Part, Capsule)>) {
-        let mut g = Vec::with_capacity(skeleton.len());
-        skeleton.globals(pose, &mut g);
-        let at = |i: usize| g[i].0;
-        out.clear();
-        out.push((Part::Torso, Capsule { a: at(self.chest), b: at(self.neck), radius: TORSO_RADIUS_M }));
-        out.push((Part::Head, Capsule { a: at(self.head), b: skeleton.tip(&g, self.head), radius: HEAD_RADIUS_M }));
+    /// The upper body's joints in `pose` (in the pose's frame: world, for a world pose).
+    pub fn frame(&self, pose: &Pose) -> UpperFrame {
+        let r = &pose.rotations;
+        UpperFrame {
+            hips: (pose.root, r[0]),
+            chest: r[self.chest],
+            neck: r[self.neck],
+            head: r[self.head],
+            arm: self.arm.map(|a| r[a]),
+            fore_arm: self.fore_arm.map(|a| r[a]),
+        }
+    }
+
+    /// Where the waist joint is in frame `f` (no offset moves it).
+    pub fn waist(&self, f: &UpperFrame) -> DVec3 {
+        f.hips.0 + f.hips.1 * self.chest_offset
+    }
+
+    /// Adds the offsets `c` to `pose`'s waist and arms (all zero leaves it as it is, bit for
+    /// bit).
+    pub fn apply(&self, pose: &mut Pose, c: &UpperConfig) {
+        if *c == UpperConfig::default() {
+            return;
+        }
+        let r = &mut pose.rotations;
+        r[self.chest] = (r[self.chest] * c.waist_rotation()).normalize();
         for side in 0..2 {
-            let (shoulder, elbow) = (at(self.arm[side]), at(self.fore_arm[side]));
+            let (shoulder, elbow) = c.arm_rotations(side);
+            r[self.arm[side]] = (r[self.arm[side]] * shoulder).normalize();
+            r[self.fore_arm[side]] = (r[self.fore_arm[side]] * elbow).normalize();
+        }
+    }
+
+    /// The capsules `which` of frame `f` with the offsets `c`, into `out` (cleared first).
+    pub fn place(&self, f: &UpperFrame, c: &UpperConfig, which: Parts, out: &mut Vec<(Part, Capsule)>) {
+        out.clear();
+        let (hp, hq) = f.hips;
+        let chest_p = hp + hq * self.chest_offset;
+        let chest_q = hq * f.chest * c.waist_rotation();
+        if matches!(which, Parts::All | Parts::Trunk) {
+            let neck_p = chest_p + chest_q * self.neck_offset;
+            let neck_q = chest_q * f.neck;
+            let head_p = neck_p + neck_q * self.head_offset;
+            let head_q = neck_q * f.head;
+            let tip = head_p + head_q * self.head_tip;
+            let axis = (tip - head_p).normalize_or_zero();
+            let top = tip - axis * HEAD_RADIUS_M;
+            out.push((Part::Torso, Capsule { a: chest_p, b: neck_p, radius: TORSO_RADIUS_M }));
+            out.push((Part::Head, Capsule { a: head_p, b: top, radius: HEAD_RADIUS_M }));
+        }
+        if which == Parts::Trunk {
+            // The shoulders ride on the waist: their joints, as balls of the upper arm's radius.
+            for side in 0..2 {
+                let shoulder = chest_p + chest_q * self.arm_offset[side];
+                out.push((Part::UpperArm(side), Capsule { a: shoulder, b: shoulder, radius: UPPER_ARM_RADIUS_M }));
+            }
+        }
+        for side in 0..2 {
+            if !matches!(which, Parts::All) && which != Parts::Arm(side) {
+                continue;
+            }
+            let (so, eo) = c.arm_rotations(side);
+            let shoulder = chest_p + chest_q * self.arm_offset[side];
+            let arm_q = chest_q * f.arm[side] * so;
+            let elbow = shoulder + arm_q * self.fore_arm_offset[side];
+            let hand = elbow + arm_q * f.fore_arm[side] * eo * self.hand_tip[side];
             out.push((Part::UpperArm(side), Capsule { a: shoulder, b: elbow, radius: UPPER_ARM_RADIUS_M }));
-            let hand = skeleton.tip(&g, self.fore_arm[side]);
             out.push((Part::Forearm(side), Capsule { a: elbow, b: hand, radius: FOREARM_RADIUS_M }));
         }
+    }
+
+    /// The six capsules of `pose` (in the pose's frame: world, for a world pose), into `out`.
+    pub fn capsules(&self, pose: &Pose, out: &mut Vec<(Part, Capsule)>) {
+        self.place(&self.frame(pose), &UpperConfig::default(), Parts::All, out);
     }
 }
 
@@ -120,7 +277,7 @@ mod tests {
         let s = actor::actor();
         let body = UpperBody::of(&s).unwrap();
         let mut caps = Vec::new();
-        body.capsules(&s, &s.bind_pose(), &mut caps);
+        body.capsules(&s.bind_pose(), &mut caps);
         (s, caps)
     }
 
@@ -159,5 +316,47 @@ mod tests {
         assert!(matches!(part, Part::UpperArm(0) | Part::Forearm(0)), "{part:?}");
         assert!((d - 0.1).abs() < 0.01, "{d}");
         assert!(clearance(&caps, &[], 1.0).is_none());
+    }
+
+    #[test]
+    fn placed_offsets_are_the_offsets_applied_to_the_pose() {
+        let s = actor::actor();
+        let body = UpperBody::of(&s).unwrap();
+        let mut pose = s.bind_pose();
+        pose.root = DVec3::new(1.0, -2.0, 0.9);
+        pose.rotations[0] = DQuat::from_rotation_z(0.7);
+        let c = UpperConfig { waist: [0.5, -0.8], arms: [[0.3, 0.2, -0.4, 1.1], [-0.2, 0.6, 0.3, 0.4]] };
+        let (mut placed, mut applied) = (Vec::new(), Vec::new());
+        body.place(&body.frame(&pose), &c, Parts::All, &mut placed);
+        body.apply(&mut pose, &c);
+        body.capsules(&pose, &mut applied);
+        for ((pa, a), (pb, b)) in placed.iter().zip(&applied) {
+            assert_eq!(pa, pb);
+            assert!((a.a - b.a).length() < 1e-12 && (a.b - b.b).length() < 1e-12, "{pa:?}");
+        }
+        // The parts asked for, in the same order.
+        body.place(&body.frame(&pose), &c, Parts::Arm(1), &mut placed);
+        assert_eq!(placed.iter().map(|p| p.0).collect::<Vec<_>>(), [Part::UpperArm(1), Part::Forearm(1)]);
+    }
+
+    #[test]
+    fn bending_lowers_the_head_and_twisting_narrows_the_shoulders() {
+        let (s, caps) = standing();
+        let body = UpperBody::of(&s).unwrap();
+        let pose = s.bind_pose();
+        let f = body.frame(&pose);
+        let mut out = Vec::new();
+        body.place(&f, &UpperConfig { waist: [75f64.to_radians(), 0.0], ..Default::default() }, Parts::All, &mut out);
+        assert!(top(&out) < top(&caps) - 0.4, "bent top {}", top(&out));
+        let width = |caps: &[(Part, Capsule)]| {
+            let ys =
+                caps.iter().flat_map(|(_, c)| [c.a.y + c.radius, c.b.y + c.radius, c.a.y - c.radius, c.b.y - c.radius]);
+            let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| (l.min(y), h.max(y)));
+            hi - lo
+        };
+        let quarter = UpperConfig { waist: [0.0, std::f64::consts::FRAC_PI_2], ..Default::default() };
+        body.place(&f, &quarter, Parts::All, &mut out);
+        assert!((width(&caps) - 0.46).abs() < 0.01, "{}", width(&caps));
+        assert!((width(&out) - 2.0 * TORSO_RADIUS_M).abs() < 1e-9, "side-on {}", width(&out));
     }
 }

@@ -319,6 +319,62 @@ impl SwitchPoint {
         self.started(db, choice).path(db, self.h, out);
     }
 
+    /// The world poses playback would show every `h` seconds if candidate `choice` starts
+    /// here, into `out`: the switch point first, then to the end of the candidate's interval
+    /// (cross-fades blended as playback blends them; foot locking, which moves only the feet,
+    /// left out), then `extra_s` seconds more in its last pose, going on with the interval's
+    /// mean turn and at its mean speed or `min_speed` if faster (the character may walk on
+    /// faster after a slow interval) — the motion the upper-body planner looks ahead over.
+    /// Returns how many of the poses lie within the interval.
+    pub fn poses(&self, db: &Database, choice: usize, extra_s: f64, min_speed: f64, out: &mut Vec<Pose>) -> usize {
+        let mut root = self.started(db, choice);
+        let iv = &db.intervals[root.interval];
+        let ft = db.clips[iv.clip].frame_time;
+        let end = iv.end as f64;
+        let pose_of = |root: &RootMotion| {
+            let mut rel = db.relative_pose(iv.clip, root.frame);
+            if let Some(s) = &root.source {
+                let w = smoothstep((s.elapsed / s.span).clamp(0.0, 1.0));
+                let src = db.relative_pose(s.clip, s.frame);
+                let dst = std::mem::replace(&mut rel, src.clone());
+                rel.blend_from(&src, &dst, w);
+            }
+            rel
+        };
+        let place = |mut rel: Pose, at: Ground| {
+            at.transform_pose(&mut rel, false);
+            rel
+        };
+        out.clear();
+        out.push(place(pose_of(&root), root.world));
+        while root.frame < end - 1e-9 {
+            root.advance_by(db, self.h.min((end - root.frame) * ft));
+            out.push(place(pose_of(&root), root.world));
+        }
+        let own = out.len();
+        let extra = (extra_s / self.h).round().max(0.0) as usize;
+        if extra > 0 {
+            let last = pose_of(&root);
+            let (a, b) = (db.ground(iv.clip, iv.start as f64), db.ground(iv.clip, end));
+            let span = (end - iv.start as f64) * ft;
+            let mut d = a.to_local(b);
+            let rate = if span > 0.0 { 1.0 / span } else { 0.0 };
+            let length = d.x.hypot(d.y);
+            let at_least = min_speed.max(0.0) * span;
+            if length * rate > 0.0 && at_least > length {
+                (d.x, d.y) = (d.x * at_least / length, d.y * at_least / length);
+            } else if length == 0.0 && at_least > 0.0 && !db.kinds[root.interval].in_place {
+                d.x = at_least;
+            }
+            for k in 1..=extra {
+                let s = k as f64 * self.h * rate;
+                let at = root.world.then(Ground { x: d.x * s, y: d.y * s, yaw: d.yaw * s });
+                out.push(place(last.clone(), at));
+            }
+        }
+        own
+    }
+
     /// The switch point at the end of candidate `choice` started here: where the next choice
     /// after it would be made, with any blend still running.
     pub fn then(&self, db: &Database, choice: usize) -> SwitchPoint {

@@ -350,6 +350,11 @@ mod tests {
             invalid_footholds: animated.then_some(0),
             footsteps_planned: n(12),
             footstep_planning_ms_p99: a(0.2),
+            upper_body_min_clearance_m: a(0.05),
+            max_waist_bend_deg: a(60.0),
+            max_waist_twist_deg: a(80.0),
+            upper_body_refused_steps: n(0),
+            upper_body_ms_per_frame: a(0.1),
         }
     }
 
@@ -366,7 +371,7 @@ mod tests {
         let csv = String::from_utf8(csv).unwrap();
         let mut lines = csv.lines();
         let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        assert_eq!(header.len(), 29);
+        assert_eq!(header.len(), 34);
         header.sort();
         let mut keys = keys;
         keys.sort();

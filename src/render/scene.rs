@@ -59,6 +59,8 @@ pub mod palette {
     pub const OBSTACLE_FILL: Rgba = Rgba::rgb(184, 192, 204);
     /// Outline of obstacles.
     pub const OBSTACLE_OUTLINE: Rgba = Rgba::rgb(62, 70, 84);
+    /// Fill of obstacles above the legs (overhead bars, shelves), which the legs walk under.
+    pub const OVERHEAD_FILL: Rgba = Rgba::rgb(184, 192, 204).with_alpha(90);
     /// Seams between the convex parts of a non-convex obstacle.
     pub const OBSTACLE_SEAM: Rgba = Rgba::rgb(150, 159, 173);
     /// Convex hull of a non-convex obstacle (vermillion).
@@ -340,6 +342,7 @@ pub fn scene_transform(scene: &Scene, size: (f64, f64), text_height_px: f64) -> 
 /// Drawing order (later on top): grid lines every 1 m or 5 m (coarser when zoomed out),
 /// terrain features in their order (raised ground in sand with its outline and stair tread
 /// edges, holes in dark blue-grey), obstacle parts filled and outlined, the convex hull of non-convex obstacles (thin dashed),
+/// obstacles above the legs (overhead bars, shelves) filled translucent and outlined,
 /// goal discs with a cross, trails, footprints, sensor sector wedges (from the agent's disc to
 /// the sensed free distance, translucent), agent discs with heading lines, agent labels, a
 /// scale bar in the bottom-left corner and the caption centred at the top.
@@ -354,7 +357,10 @@ pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
         d.terrain(f);
     }
     for o in scene.world.obstacles() {
-        d.obstacle(o);
+        d.obstacle(o, palette::OBSTACLE_FILL);
+    }
+    for o in &scene.world.overhead {
+        d.obstacle(o, palette::OVERHEAD_FILL);
     }
     for &(c, r) in &scene.goals {
         d.goal(c, r);
@@ -484,12 +490,12 @@ impl Drawer<'_> {
         }
     }
 
-    fn obstacle(&mut self, o: &crate::world::Obstacle) {
+    fn obstacle(&mut self, o: &crate::world::Obstacle, fill: Rgba) {
         for part in &o.parts {
             match part {
                 Shape::Polygon(poly) => {
                     if let Some(pts) = self.px_all(poly.vertices()) {
-                        self.p.fill_polygon(&pts, palette::OBSTACLE_FILL);
+                        self.p.fill_polygon(&pts, fill);
                         if o.parts.len() > 1 {
                             self.p.stroke_polygon(&pts, palette::OBSTACLE_SEAM, THIN_PX);
                         }
@@ -499,7 +505,7 @@ impl Drawer<'_> {
                     let c = self.px(*center);
                     let r = self.tf.length_to_pixels(*radius);
                     if c.is_finite() && r.is_finite() {
-                        self.p.fill_circle(c, r, palette::OBSTACLE_FILL);
+                        self.p.fill_circle(c, r, fill);
                     }
                 }
             }

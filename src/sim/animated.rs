@@ -25,6 +25,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
 use super::footing::Footing;
+use super::upper_body::UpperBodyState;
 use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
 use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
 use crate::anim::{Database, Ground};
@@ -205,6 +206,10 @@ pub struct AnimatedBody {
     footing_switches: u64,
     /// Every frame played since [`AnimatedBody::record_motion`], when recording.
     motion: Option<Vec<crate::anim::Pose>>,
+    /// The upper body among obstacles it can touch (none: the database's upper body plays).
+    upper: Option<Box<UpperBodyState>>,
+    /// Switches of the player the upper body has taken its plan at.
+    upper_switches: u64,
 }
 
 /// The look-ahead chooser: ranks the candidates and takes the best one whose path is clear.
@@ -220,6 +225,11 @@ struct LookAhead<'a> {
     held: bool,
     /// Held still longer than [`RESTLESS_S`].
     restless: bool,
+    /// The upper body, which plans every candidate clear for the legs (and refuses those it
+    /// cannot make free), with the offsets at the switch point.
+    upper: Option<(&'a mut UpperBodyState, crate::anim::body::UpperConfig)>,
+    /// Candidates the upper body refused at this switch point (bit per candidate).
+    refused: u64,
 }
 
 /// After being held still this long, a character takes any clear turn or step before standing
@@ -276,6 +286,22 @@ impl LookAhead<'_> {
     /// does a turn on the spot or a stop after it, so the character never walks where it could
     /// not stop or turn round.
     fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
+        let legs = self.eligible_for_legs(db, at, a, needs);
+        match &mut self.upper {
+            Some((u, _)) if legs == Eligibility::Clear => {
+                if u.admits(db, at, a, self.command.speed) {
+                    legs
+                } else {
+                    self.refused |= 1u64 << a.min(63);
+                    Eligibility::Blocked
+                }
+            }
+            _ => legs,
+        }
+    }
+
+    /// [`LookAhead::eligible`] for the legs' disc alone.
+    fn eligible_for_legs(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
         if at.reach_gap(db, a) > LOCK_REACH_M {
             return Eligibility::OutOfReach;
         }
@@ -330,6 +356,10 @@ impl Chooser for LookAhead<'_> {
         let task = Task { turn_rate: 0.0, speed: self.command.speed };
         let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
         ranker.rank(db, at.ending, errors, task, self.rng, self.order);
+        if let Some((u, start)) = &mut self.upper {
+            u.begin_choice(*start);
+        }
+        self.refused = 0;
         let needs = self.needs(DVec2::new(at.ground.x, at.ground.y));
         let mut blocked = false;
         let order = std::mem::take(self.order);
@@ -359,14 +389,27 @@ impl Chooser for LookAhead<'_> {
         let cands = &db.candidates[at.ending];
         let a = pick.unwrap_or_else(|| {
             // Nothing keeps the margin: the candidate whose path keeps the most room (the
-            // last-resort guard keeps the root out of anything).
-            let room: Vec<f64> = (0..cands.len()).map(|a| self.path_clearance(db, at, a)).collect();
+            // last-resort guard keeps the root out of anything) — but never one that moves
+            // where the upper body could not follow.
+            let room: Vec<f64> = (0..cands.len())
+                .map(|a| {
+                    let moves = !db.kinds[cands[a].interval].in_place;
+                    if moves && self.refused & (1u64 << a.min(63)) != 0 {
+                        f64::NEG_INFINITY
+                    } else {
+                        self.path_clearance(db, at, a)
+                    }
+                })
+                .collect();
             (0..cands.len()).max_by(|&x, &y| room[x].total_cmp(&room[y]).then(y.cmp(&x))).unwrap_or(0)
         });
         // Held: something the character wanted was blocked by obstacles, and it stands still
         // instead (turning on the spot is doing something about it).
         let kind = db.kinds[cands[a].interval];
         self.held = blocked && kind.in_place && kind.spot_turn == 0;
+        if let Some((u, _)) = &mut self.upper {
+            u.end_choice(db, at, a);
+        }
         a
     }
 }
@@ -399,6 +442,8 @@ impl AnimatedBody {
             footing: None,
             footing_switches: 0,
             motion: None,
+            upper: None,
+            upper_switches: 0,
             anim,
         }
     }
@@ -426,7 +471,28 @@ impl AnimatedBody {
             let progress = if duration > 0.0 { self.player.time_in_interval(db) / duration } else { 0.0 };
             f.pose_legs(&db.skeleton, &mut pose, progress);
         }
+        if let Some(u) = self.upper.as_deref() {
+            let c = u.offsets(self.player.time_in_interval(&self.anim.db));
+            u.planner_body().apply(&mut pose, &c);
+        }
         pose
+    }
+
+    /// Gives the character an upper body that plans around the obstacles it can touch (see
+    /// [`super::upper_body`]).
+    pub fn set_upper_body(&mut self, upper: UpperBodyState) {
+        self.upper_switches = self.player.metrics.switches;
+        self.upper = Some(Box::new(upper));
+    }
+
+    /// The upper body's planner state, if it plans.
+    pub fn upper_body(&self) -> Option<&UpperBodyState> {
+        self.upper.as_deref()
+    }
+
+    /// The upper body's offsets now (zero when it does not plan).
+    pub fn upper_offsets(&self) -> crate::anim::body::UpperConfig {
+        self.upper.as_deref().map_or_else(Default::default, |u| u.offsets(self.player.time_in_interval(&self.anim.db)))
     }
 
     /// Puts the character's feet on uneven terrain: from now on every step of a moving
@@ -489,6 +555,8 @@ impl AnimatedBody {
             path: &mut self.path,
             held: false,
             restless: self.held_s > RESTLESS_S,
+            upper: None,
+            refused: 0,
         };
         chooser.choose(&anim.db, &at)
     }
@@ -509,6 +577,7 @@ impl AnimatedBody {
             return;
         }
         let at = self.player.switch_point_now();
+        let start = self.upper_offsets();
         let mut chooser = LookAhead {
             anim: &anim,
             space,
@@ -520,10 +589,16 @@ impl AnimatedBody {
             path: &mut self.path,
             held: false,
             restless: self.held_s > RESTLESS_S,
+            upper: self.upper.as_deref_mut().map(|u| (u, start)),
+            refused: 0,
         };
         let choice = chooser.choose(db, &at);
         self.held = chooser.held;
         self.player.switch_now(db, choice);
+        if let Some(u) = self.upper.as_deref_mut() {
+            u.switched();
+            self.upper_switches = self.player.metrics.switches;
+        }
     }
 }
 
@@ -569,6 +644,12 @@ impl Body for AnimatedBody {
         let mut outcome = StepOutcome::default();
         for _ in 0..frames {
             let prev = self.player.ground();
+            // The offsets at the end of the interval playing, where the next choice starts.
+            let start = self.upper.as_deref().map(|u| {
+                let db = &anim.db;
+                let end = self.player.time_in_interval(db) + self.player.time_to_switch(db);
+                u.offsets(end)
+            });
             let mut chooser = LookAhead {
                 anim: &anim,
                 space: &mut *space,
@@ -580,6 +661,8 @@ impl Body for AnimatedBody {
                 path: &mut self.path,
                 held: self.held,
                 restless: self.held_s > RESTLESS_S,
+                upper: self.upper.as_deref_mut().zip(start),
+                refused: 0,
             };
             self.player.advance_frame(&anim.db, &mut chooser);
             self.held = chooser.held;
@@ -613,8 +696,18 @@ impl Body for AnimatedBody {
             } else {
                 outcome.moved_m += from.distance(to);
             }
-            if self.motion.is_some() {
+            if let Some(u) = self.upper.as_deref_mut()
+                && self.player.metrics.switches != self.upper_switches
+            {
+                self.upper_switches = self.player.metrics.switches;
+                u.switched();
+            }
+            if self.motion.is_some() || self.upper.is_some() {
                 let pose = self.world_pose();
+                let c = self.upper_offsets();
+                if let Some(u) = self.upper.as_deref_mut() {
+                    u.measure(&pose, &c);
+                }
                 if let Some(m) = self.motion.as_mut() {
                     m.push(pose);
                 }

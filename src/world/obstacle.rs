@@ -59,7 +59,39 @@ pub struct Obstacle {
 /// Default vertical extent of obstacles, metres (taller than a person).
 pub const DEFAULT_Z: (f64, f64) = (0.0, 2.0);
 
+/// Lowest bottom of an obstacle that leaves the legs and the pelvis room beneath it, metres:
+/// from here up an obstacle belongs to the upper body (seed 002 §5), which bends, twists and
+/// moves the arms past it; the 2-D navigation does not see it.
+pub const UPPER_BAND_MIN_Z_M: f64 = 1.0;
+/// Height of the built-in actor, metres: an obstacle standing on the ground at least this tall
+/// is a wall to the whole body, and the upper body has nothing to plan about it.
+pub const BODY_TOP_M: f64 = 1.75;
+
+/// Which planner an obstacle belongs to (seed 002 §3.2, §5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Band {
+    /// Low enough to step onto or over: terrain for the footstep planner
+    /// ([`super::Terrain::is_low`]).
+    Ground,
+    /// In the way of the legs: an obstacle for the 2-D navigation.
+    Legs,
+    /// Above the legs and the pelvis ([`UPPER_BAND_MIN_Z_M`]): an overhead bar, a shelf, for the
+    /// upper-body planner.
+    Upper,
+}
+
 impl Obstacle {
+    /// The planner this obstacle belongs to.
+    pub fn band(&self) -> Band {
+        if super::Terrain::is_low(self) {
+            Band::Ground
+        } else if self.z_min >= UPPER_BAND_MIN_Z_M {
+            Band::Upper
+        } else {
+            Band::Legs
+        }
+    }
+
     /// Builds an obstacle from its description and vertical extent.
     pub fn build(shape: ObstacleShape, z_min: f64, z_max: f64) -> Result<Obstacle, GeomError> {
         if !(z_min.is_finite() && z_max.is_finite() && z_min < z_max) {

@@ -1,0 +1,225 @@
+//! The animated character's upper body among obstacles it can touch (seed 002 §5; DESIGN.md
+//! §5): at every switch point, each candidate the navigation finds clear for the legs is
+//! planned for the upper body too ([`crate::upper`]) over the motion it would play; a
+//! candidate the upper body cannot make free is refused, and the chosen candidate's plan plays
+//! with it. The offsets are added to the database's pose in [`super::AnimatedBody::world_pose`],
+//! so every front-end and the exported motion show them.
+//!
+//! Played frames are measured against the obstacles: the least clearance of the capsules, the
+//! deepest waist bend and twist. Planning time is measured only when a front-end lends a
+//! [`Stopwatch`](super::footing::Stopwatch), and never feeds back into the motion.
+
+use std::sync::Arc;
+
+use glam::DVec2;
+
+use super::footing::StopwatchHandle;
+use crate::anim::body::{Part, UpperBody, UpperConfig};
+use crate::anim::player::SwitchPoint;
+use crate::anim::{Database, Pose, Skeleton};
+use crate::geom::Capsule;
+use crate::upper::{LOOK_AHEAD_S, Plan, Refusal, Scratch, Solids, UpperPlanner};
+use crate::world::Terrain;
+
+/// What the upper body did over an episode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UpperFigures {
+    /// Least clearance of the upper body's capsules from the obstacles over the frames played,
+    /// metres (infinite when nothing came within reach).
+    pub min_clearance_m: f64,
+    /// Deepest forward bend of the waist played, radians.
+    pub max_bend_rad: f64,
+    /// Largest twist of the waist played either way, radians.
+    pub max_twist_rad: f64,
+    /// Switch points at which the upper body refused a step the legs could take.
+    pub refused_steps: u64,
+    /// Plans made.
+    pub plans: u64,
+    /// Frames played.
+    pub frames: u64,
+    /// Seconds spent planning, when a stopwatch was lent.
+    pub planning_s: Option<f64>,
+}
+
+impl Default for UpperFigures {
+    fn default() -> Self {
+        UpperFigures {
+            min_clearance_m: f64::INFINITY,
+            max_bend_rad: 0.0,
+            max_twist_rad: 0.0,
+            refused_steps: 0,
+            plans: 0,
+            frames: 0,
+            planning_s: None,
+        }
+    }
+}
+
+/// The upper body of an animated character. See the [module docs](self).
+#[derive(Debug)]
+pub struct UpperBodyState {
+    planner: UpperPlanner,
+    solids: Arc<Solids>,
+    terrain: Option<Arc<Terrain>>,
+    clock: Option<StopwatchHandle>,
+    h: f64,
+    plan: Plan,
+    next: Option<Plan>,
+    pending: Option<(usize, Plan)>,
+    refused: Option<Refusal>,
+    start: UpperConfig,
+    speed: f64,
+    poses: Vec<Pose>,
+    scratch: Scratch,
+    near: Vec<usize>,
+    caps: Vec<(Part, Capsule)>,
+    figures: UpperFigures,
+}
+
+impl Clone for UpperBodyState {
+    fn clone(&self) -> Self {
+        UpperBodyState {
+            planner: self.planner.clone(),
+            solids: Arc::clone(&self.solids),
+            terrain: self.terrain.clone(),
+            clock: self.clock.clone(),
+            h: self.h,
+            plan: self.plan.clone(),
+            next: self.next.clone(),
+            pending: self.pending.clone(),
+            refused: self.refused,
+            start: self.start,
+            speed: self.speed,
+            poses: Vec::new(),
+            scratch: Scratch::default(),
+            near: Vec::new(),
+            caps: Vec::new(),
+            figures: self.figures,
+        }
+    }
+}
+
+impl UpperBodyState {
+    /// The upper body of a character built like the actor (`None` for another skeleton),
+    /// among `solids`, on `terrain` when it is not flat, playing at `h`-second frames.
+    pub fn new(
+        skeleton: &Skeleton,
+        solids: Arc<Solids>,
+        terrain: Option<Arc<Terrain>>,
+        clock: Option<StopwatchHandle>,
+        h: f64,
+    ) -> Option<UpperBodyState> {
+        let body = UpperBody::of(skeleton)?;
+        Some(UpperBodyState {
+            planner: UpperPlanner::new(body),
+            solids,
+            terrain,
+            clock,
+            h,
+            plan: Plan::hold(UpperConfig::default(), h),
+            next: None,
+            pending: None,
+            refused: None,
+            start: UpperConfig::default(),
+            speed: 0.0,
+            poses: Vec::new(),
+            scratch: Scratch::default(),
+            near: Vec::new(),
+            caps: Vec::new(),
+            figures: UpperFigures::default(),
+        })
+    }
+
+    /// The offsets `t` seconds into the interval playing.
+    pub fn offsets(&self, t: f64) -> UpperConfig {
+        self.plan.at(t)
+    }
+
+    /// The body planned for.
+    pub fn planner_body(&self) -> &UpperBody {
+        self.planner.body()
+    }
+
+    /// The figures so far.
+    pub fn figures(&self) -> UpperFigures {
+        self.figures
+    }
+
+    /// Why the last candidate refused was refused, if one was at the last switch point.
+    pub fn refusal(&self) -> Option<Refusal> {
+        self.refused
+    }
+
+    /// A choice begins at a switch point where the offsets are `start`.
+    pub fn begin_choice(&mut self, start: UpperConfig) {
+        self.start = start;
+        self.pending = None;
+        self.refused = None;
+    }
+
+    /// Plans candidate `a` at `at` (looking ahead as if walking on at `speed` at least): true
+    /// when the upper body can play it.
+    pub fn admits(&mut self, db: &Database, at: &SwitchPoint, a: usize, speed: f64) -> bool {
+        self.speed = speed;
+        match self.plan_for(db, at, a) {
+            Ok(plan) => {
+                self.pending = Some((a, plan));
+                true
+            }
+            Err(r) => {
+                self.refused = Some(r);
+                false
+            }
+        }
+    }
+
+    /// The choice `a` was made: its plan plays from the switch (holding the offsets when the
+    /// upper body could not plan it, which only a character with nothing clear does).
+    pub fn end_choice(&mut self, db: &Database, at: &SwitchPoint, a: usize) {
+        if self.refused.is_some() {
+            self.figures.refused_steps += 1;
+        }
+        let plan = match self.pending.take() {
+            Some((b, plan)) if b == a => plan,
+            _ => self.plan_for(db, at, a).unwrap_or_else(|_| Plan::hold(self.start, self.h)),
+        };
+        self.next = Some(plan);
+    }
+
+    /// The player switched: the plan of the choice plays from now.
+    pub fn switched(&mut self) {
+        if let Some(p) = self.next.take() {
+            self.plan = p;
+        }
+    }
+
+    /// Measures a frame played (`pose` with the offsets `c` applied).
+    pub fn measure(&mut self, pose: &Pose, c: &UpperConfig) {
+        let f = &mut self.figures;
+        f.frames += 1;
+        f.max_bend_rad = f.max_bend_rad.max(c.waist[0]);
+        f.max_twist_rad = f.max_twist_rad.max(c.waist[1].abs());
+        self.planner.body().capsules(pose, &mut self.caps);
+        let at = DVec2::new(pose.root.x, pose.root.y);
+        let d = self.solids.clearance_near(&self.caps, at, 1.0, &mut self.near);
+        if d < 1.0 {
+            f.min_clearance_m = f.min_clearance_m.min(d);
+        }
+    }
+
+    fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> Result<Plan, Refusal> {
+        let started = self.clock.as_ref().map(|c| c.0.now_s());
+        let own = at.poses(db, a, LOOK_AHEAD_S, self.speed, &mut self.poses);
+        if let Some(t) = &self.terrain {
+            for p in &mut self.poses {
+                p.root.z += t.height(DVec2::new(p.root.x, p.root.y));
+            }
+        }
+        let plan = self.planner.plan(&self.solids, &self.poses, own, self.h, &self.start, &mut self.scratch);
+        self.figures.plans += 1;
+        if let (Some(c), Some(t0)) = (&self.clock, started) {
+            *self.figures.planning_s.get_or_insert(0.0) += (c.0.now_s() - t0).max(0.0);
+        }
+        plan
+    }
+}
