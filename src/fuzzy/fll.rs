@@ -339,7 +339,10 @@ fn write_term(out: &mut String, t: &NamedTerm) {
 /// Writes `engine` as FLL.
 pub fn export(engine: &Engine) -> String {
     let mut s = String::new();
+    // A description is one line: a line break in it (a script may put one there) is written
+    // as a space, so the file reads back.
     let line = |s: &mut String, key: &str, value: &str| {
+        let value = value.replace(['\n', '\r'], " ");
         s.push_str(&format!("  {key}: {value}\n"));
     };
     s.push_str(&format!("Engine: {}\n", engine.name));
@@ -443,6 +446,16 @@ RuleBlock: rules
   rule: if service is good then tip is average
   rule: if service is excellent then tip is generous with 0.5
 ";
+
+    #[test]
+    fn a_description_with_line_breaks_is_written_on_one_line() {
+        let mut e = import(SMALL, "d.fll").unwrap();
+        e.description = "goal seeking\nmasked by\r\nobstacle nearness".into();
+        e.inputs[0].description = "first\rsecond".into();
+        let back = import(&export(&e), "export.fll").unwrap();
+        assert_eq!(back.description, "goal seeking masked by  obstacle nearness");
+        assert_eq!(back.inputs[0].description, "first second");
+    }
 
     #[test]
     fn imports_legacy_and_round_trips() {
