@@ -230,3 +230,29 @@ fn a_character_on_terrain_shows_its_footstep_window() {
     assert!(columns.windows(2).all(|w| w[0] < w[1]), "{columns:?}");
     assert!(panel[6].iter().collect::<String>().contains("steps "));
 }
+
+#[test]
+fn a_character_under_a_bar_shows_its_upper_body() {
+    use std::sync::Arc;
+    use strider::anim::policy::Policy;
+    use strider::builtin::{self, DEFAULT_POLICY};
+    use strider::sim::{Animation, AnimationHandle};
+    let db = builtin::database().unwrap();
+    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
+    let animation = Some(AnimationHandle(Arc::new(Animation::new(db, policy))));
+    let config = Config { map: MapSpec::file("maps/upper_overhead_bar.rhai"), rules: None, seed: 1, animation };
+    let mut app = App::load(config).unwrap();
+    // Walk until the waist bends for the first bar.
+    let bend = |app: &App| app.sim.agents[0].body.animated().unwrap().upper_offsets().waist[0].to_degrees();
+    for _ in 0..2000 {
+        if bend(&app) > 30.0 {
+            break;
+        }
+        app.sim.step();
+    }
+    assert!(bend(&app) > 30.0);
+    let rows = screen(&mut app, 120, 40);
+    let line = rows.iter().find(|r| r.contains("upper bend")).expect("the upper body's line");
+    let shown: f64 = line.split("upper bend").nth(1).unwrap().trim_start().split('°').next().unwrap().parse().unwrap();
+    assert!((shown - bend(&app)).abs() < 0.5, "{line}");
+}

@@ -183,6 +183,9 @@ fn side(app: &App, area: Rect, buf: &mut Buffer) {
     let n_out = net.output_names().count() as u16;
     // On short screens the agent panel drops its command line (the outputs show it).
     let agent_h = if area.height < 30 { 3 } else { 4 };
+    // A character among obstacles its upper body can touch gets a line for it (seed 002 §5).
+    let upper = app.sim.agents.get(app.selected).and_then(|a| a.body.animated()).and_then(|b| b.upper_body());
+    let agent_h = agent_h + u16::from(upper.is_some());
     // A character on uneven terrain also gets the footstep window (seed 002 §4.2).
     let steps_h = if footing_of(app).is_some() { FOOTSTEP_PANEL_H } else { 0 };
     let [a_area, i_area, o_area, f_area, r_area] = Layout::vertical([
@@ -359,6 +362,20 @@ fn agent_panel(app: &App, area: Rect, buf: &mut Buffer) {
             e.speed,
             e.direction.to_degrees()
         )));
+        // The upper body (seed 002 §5): the offsets the planner adds now, and its refusals.
+        if let Some(u) = b.upper_body() {
+            let c = b.upper_offsets();
+            let mut spans = vec![Span::raw(format!(
+                "upper bend {:+.0}° twist {:+.0}°  refused {}",
+                c.waist[0].to_degrees(),
+                c.waist[1].to_degrees(),
+                u.figures().refused_steps
+            ))];
+            if let Some(r) = u.refusal() {
+                spans.push(Span::styled(format!(" · {r}"), Style::new().fg(Color::Red)));
+            }
+            lines.push(Line::from(spans));
+        }
     }
     if app.manual {
         let you = Span::styled(cmd("you", app.manual_command), Style::new().fg(Color::Magenta));
