@@ -603,7 +603,7 @@ fn set_view(frames: &mut [(String, Scene<'_>)], view: Option<Aabb>) {
 /// The note `--side` adds to a report about `world`.
 fn side_note(world: &World) -> String {
     let flat = matches!(world.terrain, Terrain::Flat);
-    let walls = world.obstacles().iter().all(|o| (o.z_min, o.z_max) == DEFAULT_Z);
+    let walls = world.solids().all(|o| (o.z_min, o.z_max) == DEFAULT_Z);
     if flat && walls {
         "side views: the map has no terrain or 3-D obstacles to show from the side (flat ground, every obstacle a full-height wall); none written".to_string()
     } else {

@@ -201,8 +201,10 @@ fn no_bone_of_the_exported_motion_enters_an_obstacle() {
     let out = dir("upper_body_scenes");
     let mut bent = 0.0f64;
     let mut twisted = 0.0f64;
+    // Scenes of each kind: 3, or `STRIDER_UPPER_SCENES` for a longer run.
+    let per_kind: u64 = std::env::var("STRIDER_UPPER_SCENES").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
     for kind in ["bar", "shelves", "low_bar", "table", "kerbs"] {
-        for k in 0..3 {
+        for k in 0..per_kind {
             let scene = generate(kind, k);
             let map = out.join(format!("{}.txt", scene.name));
             std::fs::write(&map, scene.text()).unwrap();
@@ -215,6 +217,15 @@ fn no_bone_of_the_exported_motion_enters_an_obstacle() {
             let record = &json["episodes"][0];
             assert_eq!(record["reached"], true, "{}: {record}", scene.name);
             assert_eq!(record["collisions"], 0, "{}", scene.name);
+            eprintln!(
+                "{}: reached in {:.1} s, bend {:.0}°, twist {:.0}°, least clearance {}, refused {}",
+                scene.name,
+                record["time_s"].as_f64().unwrap_or(f64::NAN),
+                record["max_waist_bend_deg"].as_f64().unwrap_or(0.0),
+                record["max_waist_twist_deg"].as_f64().unwrap_or(0.0),
+                record["upper_body_min_clearance_m"],
+                record["upper_body_refused_steps"]
+            );
             bent = bent.max(record["max_waist_bend_deg"].as_f64().unwrap());
             twisted = twisted.max(record["max_waist_twist_deg"].as_f64().unwrap());
             let path = bvh_dir.join("episode_0.bvh");
@@ -268,4 +279,39 @@ fn a_bar_out_of_reach_changes_nothing() {
         motions.push(std::fs::read_to_string(out.join(name).join("episode_0.bvh")).unwrap());
     }
     assert_eq!(motions[0], motions[1]);
+}
+
+/// `render --side --front` writes strips of the moments the upper body moved for obstacles
+/// (what they show is checked in `render::sim_view`); both are refused before any work where
+/// there is nothing to show or with the disc.
+#[test]
+fn the_strips_show_the_bend_and_the_twist() {
+    let out = dir("upper_body_strips");
+    let frames = out.join("frames");
+    let r = strider(&[
+        "render",
+        "maps/upper_all.rhai",
+        "--out",
+        frames.to_str().unwrap(),
+        "--every",
+        "0",
+        "--side",
+        "--front",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    for file in ["upper_side.png", "upper_front.png", "final.png"] {
+        assert_eq!(&std::fs::read(frames.join(file)).unwrap()[1..4], b"PNG", "{file}");
+    }
+    let refused = out.join("refused");
+    for args in [
+        vec!["render", "maps/sparse.rhai", "--out", refused.to_str().unwrap(), "--front"],
+        vec!["render", "maps/upper_all.rhai", "--out", refused.to_str().unwrap(), "--front", "--body", "disc"],
+        vec!["render", "maps/sparse.rhai", "--out", refused.to_str().unwrap(), "--side"],
+    ] {
+        let o = strider(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let flag = args.iter().find(|a| a.starts_with("--") && *a != &"--out" && *a != &"--body").unwrap();
+        assert!(String::from_utf8_lossy(&o.stderr).contains(flag), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(!refused.exists(), "{args:?} wrote nothing");
+    }
 }

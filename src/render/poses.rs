@@ -26,6 +26,9 @@ pub struct StripPose {
     pub head: Option<(usize, DVec3)>,
     /// Foot outlines as (side, points around the foot: ankle, toe tip, heel), metres.
     pub feet: Vec<(i8, Vec<DVec3>)>,
+    /// Obstacles beside the figure, as rectangles (lowest corner, highest corner) in the
+    /// strip's plane (horizontal, up), metres; drawn behind it.
+    pub boxes: Vec<(DVec2, DVec2)>,
     /// Caption under the figure.
     pub caption: String,
 }
@@ -35,6 +38,7 @@ const RIGHT: Rgba = Rgba::rgb(200, 70, 50);
 const MIDDLE: Rgba = Rgba::rgb(40, 40, 40);
 const HEAD_FILL: Rgba = Rgba::rgb(235, 225, 205);
 const GROUND: Rgba = Rgba::rgb(120, 120, 120);
+const OBSTACLE: Rgba = Rgba::rgb(150, 159, 173);
 
 /// Radius of the drawn head as a fraction of the head segment (base of the skull to the top).
 const HEAD_RADIUS: f64 = 0.62;
@@ -89,6 +93,7 @@ pub fn strip_pose(skeleton: &Skeleton, pose: &Pose, feet: &[usize], caption: Str
         sides: joints.iter().map(|j| side_of(&j.name)).collect(),
         head,
         feet: outlines,
+        boxes: Vec::new(),
         caption,
     }
 }
@@ -107,6 +112,12 @@ pub fn draw_strip(poses: &[StripPose], painter: &mut dyn Painter) {
         let cx = slot_w * (k as f64 + 0.5);
         let px = |v: DVec3| DVec2::new(cx + v.x * scale, ground_y - v.z * scale);
         let head = p.head.map(|(i, _)| i);
+        for &(lo, hi) in &p.boxes {
+            let (a, b) = (px(DVec3::new(lo.x, 0.0, lo.y)), px(DVec3::new(hi.x, 0.0, hi.y)));
+            let corners = [a, DVec2::new(b.x, a.y), b, DVec2::new(a.x, b.y)];
+            painter.fill_polygon(&corners, OBSTACLE.with_alpha(110));
+            painter.stroke_polygon(&corners, OBSTACLE, 0.5 * width);
+        }
         // Far (right) side first so the near (left) side is drawn on top.
         for side in [-1i8, 0, 1] {
             let color = match side {

@@ -1,7 +1,7 @@
 //! What a running simulation looks like as a [`Scene`]: the one conversion used by PNG frames
 //! and the terminal view, so both show the same thing.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 use super::poses::{StripPose, strip_pose};
 use super::scene::{AgentView, Scene};
@@ -51,9 +51,76 @@ pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
 /// its head and feet outlined.
 pub fn strip_pose_of(body: &AnimatedBody, caption: String) -> StripPose {
     let db = &body.animation().db;
-    let mut pose = body.player().pose().clone();
+    let mut pose = body.world_pose();
     body.player().ground().transform_pose(&mut pose, true);
     strip_pose(&db.skeleton, &pose, &db.feet, caption)
+}
+
+/// Which way a strip of the upper body looks at the character.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StripView {
+    /// From its left: forward to the right, up (a bend shows).
+    Side,
+    /// From ahead: its left to the right, up (a twist shows).
+    Front,
+}
+
+/// Half the width of the slice of the world a strip shows obstacles from, metres: for the
+/// side view what lies this far either side of the character's path, for the front view what
+/// lies this far ahead of and behind its hips.
+const SLICE_HALF_M: f64 = 0.35;
+
+/// The animated character now for an upper-body strip (seed 002 §5, Fig 9), seen `view`, in its
+/// ground frame, with the parts of `obstacles` within a slice of the world around it cut to
+/// rectangles of their extent across the view and their heights.
+pub fn upper_strip_pose<'a>(
+    body: &AnimatedBody,
+    obstacles: impl IntoIterator<Item = &'a crate::world::Obstacle>,
+    view: StripView,
+    caption: String,
+) -> StripPose {
+    let g = body.player().ground();
+    let mut p = strip_pose_of(body, caption);
+    let local = |q: DVec2| {
+        let d = q - DVec2::new(g.x, g.y);
+        let (s, c) = g.yaw.sin_cos();
+        DVec2::new(c * d.x + s * d.y, -s * d.x + c * d.y)
+    };
+    for o in obstacles {
+        for part in &o.parts {
+            let pts: Vec<DVec2> = match part {
+                crate::geom::Shape::Polygon(poly) => poly.vertices().iter().map(|&v| local(v)).collect(),
+                crate::geom::Shape::Circle { center, radius } => {
+                    let c = local(*center);
+                    (0..16).map(|k| c + DVec2::from_angle(k as f64 * std::f64::consts::TAU / 16.0) * *radius).collect()
+                }
+            };
+            let (lo, hi) = pts.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+            // Across the view (drawn) and along the line of sight (the slice).
+            let ((a0, a1), (s0, s1), reach) = match view {
+                StripView::Side => ((lo.x, hi.x), (lo.y, hi.y), 1.2),
+                StripView::Front => ((lo.y, hi.y), (lo.x, hi.x), 1.0),
+            };
+            if s1 < -SLICE_HALF_M || s0 > SLICE_HALF_M || a1 < -reach || a0 > reach {
+                continue;
+            }
+            let (z0, z1) = (o.z_min.max(0.0), o.z_max.min(2.3));
+            if z1 > z0 {
+                p.boxes.push((DVec2::new(a0.max(-reach), z0), DVec2::new(a1.min(reach), z1)));
+            }
+        }
+    }
+    if view == StripView::Front {
+        // Seen from ahead: the character's left (+Y) to the right of the picture.
+        let turn = |v: DVec3| DVec3::new(v.y, -v.x, v.z);
+        p.joints.iter_mut().for_each(|v| *v = turn(*v));
+        p.tips.iter_mut().for_each(|(_, v)| *v = turn(*v));
+        p.feet.iter_mut().for_each(|(_, o)| o.iter_mut().for_each(|v| *v = turn(*v)));
+        if let Some((_, top)) = &mut p.head {
+            *top = turn(*top);
+        }
+    }
+    p
 }
 
 /// The side view of an animated character's walk on uneven terrain (seed 002 Fig 6): the steps
@@ -147,5 +214,46 @@ impl SideRecorder {
             at += s.length_m();
         }
         view
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::sim::{Animation, OpenSpace};
+    use crate::world::{Obstacle, ObstacleShape, Pose};
+
+    #[test]
+    fn a_bar_ahead_is_cut_into_both_views_and_the_front_view_turns_the_body() {
+        let db = crate::builtin::database().unwrap();
+        let policy = crate::builtin::policy(&db).unwrap();
+        let mut body =
+            AnimatedBody::new(Arc::new(Animation::new(db, policy)), Pose { position: DVec2::ZERO, yaw: 0.0 }, 0.3);
+        body.step(Default::default(), 0.05, &mut OpenSpace);
+        let bar = Obstacle::build(
+            ObstacleShape::Box { center: DVec2::new(0.3, 0.0), width: 0.1, height: 1.2, yaw: 0.0 },
+            1.5,
+            1.6,
+        )
+        .unwrap();
+        let far =
+            Obstacle::build(ObstacleShape::Cylinder { center: DVec2::new(0.0, 3.0), radius: 0.2 }, 1.5, 1.6).unwrap();
+        let side = upper_strip_pose(&body, [&bar, &far], StripView::Side, "s".into());
+        let front = upper_strip_pose(&body, [&bar, &far], StripView::Front, "f".into());
+        // The bar only (the cylinder lies outside the slice), its depth across the side view
+        // and its length across the front one.
+        assert_eq!((side.boxes.len(), front.boxes.len()), (1, 1));
+        let (lo, hi) = side.boxes[0];
+        assert!((lo.x - 0.25).abs() < 0.05 && (hi.x - 0.35).abs() < 0.05 && lo.y == 1.5 && hi.y == 1.6, "{lo} {hi}");
+        let (lo, hi) = front.boxes[0];
+        assert!((lo.x + 0.6).abs() < 0.05 && (hi.x - 0.6).abs() < 0.05, "{lo} {hi}");
+        // Seen from ahead the shoulders lie across the picture; from the side, one behind the other.
+        let across = |p: &StripPose| {
+            let xs: Vec<f64> = p.joints.iter().map(|v| v.x).collect();
+            xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - xs.iter().cloned().fold(f64::INFINITY, f64::min)
+        };
+        assert!(across(&front) > 0.3 && across(&side) < across(&front), "{} {}", across(&side), across(&front));
     }
 }
