@@ -118,33 +118,14 @@ impl Solids {
         self.solids.is_empty()
     }
 
-    /// The least clearance between `capsules` and the solids listed in `near` (indices), and
-    /// the part where it is; `horizon_m` caps what is reported (parts whose bounding boxes
-    /// are farther apart are skipped).
-    fn clearance(&self, capsules: &[(Part, Capsule)], near: &[usize], horizon_m: f64) -> (f64, Option<Part>) {
-        let mut best = (horizon_m, None);
-        for &i in near {
+    /// The least clearance between `capsules` and the solids listed in `near` (indices),
+    /// capped at `horizon_m` ([`crate::anim::body::clearance`]).
+    fn clearance(&self, capsules: &[(Part, Capsule)], near: &[usize], horizon_m: f64) -> f64 {
+        let prisms = near.iter().map(|&i| {
             let s = &self.solids[i];
-            let prism = Prism { base: &s.shape, z_min: s.z_min, z_max: s.z_max };
-            for &(part, c) in capsules {
-                let reach = c.radius + best.0;
-                let (lo, hi) = (c.a.min(c.b), c.a.max(c.b));
-                if lo.x - reach > s.aabb.max.x
-                    || hi.x + reach < s.aabb.min.x
-                    || lo.y - reach > s.aabb.max.y
-                    || hi.y + reach < s.aabb.min.y
-                    || lo.z - reach > s.z_max
-                    || hi.z + reach < s.z_min
-                {
-                    continue;
-                }
-                let d = prism.capsule_clearance(&c);
-                if d < best.0 {
-                    best = (d, Some(part));
-                }
-            }
-        }
-        best
+            (Prism { base: &s.shape, z_min: s.z_min, z_max: s.z_max }, s.aabb)
+        });
+        crate::anim::body::clearance(capsules, prisms, horizon_m).map_or(horizon_m, |(d, _)| d.min(horizon_m))
     }
 
     /// The least clearance of `capsules` from every solid near `at` (plan view), capped at
@@ -157,7 +138,7 @@ impl Solids {
         near: &mut Vec<usize>,
     ) -> f64 {
         self.index.query_circle(at, NEAR_M + horizon_m, near);
-        self.clearance(capsules, near, horizon_m).0
+        self.clearance(capsules, near, horizon_m)
     }
 }
 
@@ -190,7 +171,7 @@ impl Plan {
 }
 
 /// Buffers the planner reuses from plan to plan.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Scratch {
     frames: Vec<UpperFrame>,
     near: Vec<Vec<usize>>,
@@ -484,7 +465,7 @@ impl UpperPlanner {
             let waist = self.body.waist(&s.frames[k]);
             s.caps.clear();
             s.caps.push((Part::Torso, Capsule { a: waist, b: waist, radius: crate::anim::body::TORSO_RADIUS_M }));
-            if solids.clearance(&s.caps, &s.near[k], MARGIN_M).0 < MARGIN_M {
+            if solids.clearance(&s.caps, &s.near[k], MARGIN_M) < MARGIN_M {
                 k_max = k - 1;
                 break;
             }
@@ -500,7 +481,7 @@ impl UpperPlanner {
             let mut legal = |t: usize, c: [i32; 2]| {
                 let cfg = UpperConfig { waist: waist_lattice.value(c), ..Default::default() };
                 body.place(&frames[t], &cfg, Parts::Trunk, caps);
-                solids.clearance(caps, &near[t], MARGIN_M).0 >= MARGIN_M
+                solids.clearance(caps, &near[t], MARGIN_M) >= MARGIN_M
             };
             let start = waist_lattice.snap(start.waist);
             waist_lattice.targets(start, k_max, busy, &mut legal, &mut s.reach, &mut s.targets2);
@@ -521,7 +502,7 @@ impl UpperPlanner {
                     let mut cfg = configs[t];
                     cfg.arms[side] = arm_lattice.value(c);
                     body.place(&frames[t], &cfg, Parts::Arm(side), caps);
-                    solids.clearance(caps, &near[t], MARGIN_M).0 >= MARGIN_M
+                    solids.clearance(caps, &near[t], MARGIN_M) >= MARGIN_M
                 };
                 let start = arm_lattice.snap(start.arms[side]);
                 arm_lattice.targets(start, reached, busy, &mut legal, &mut s.reach, &mut s.targets4);

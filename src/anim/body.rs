@@ -15,7 +15,7 @@ use glam::{DQuat, DVec3};
 
 use super::actor::{CHEST, HEAD, LEFT_ARM, LEFT_FORE_ARM, NECK, RIGHT_ARM, RIGHT_FORE_ARM};
 use super::skeleton::{Pose, Skeleton};
-use crate::geom::{Capsule, Prism};
+use crate::geom::{Aabb, Capsule, Prism};
 use crate::world::Obstacle;
 
 /// Radius of the torso's capsule, metres.
@@ -233,31 +233,44 @@ impl UpperBody {
     }
 }
 
-/// The least clearance between any of `capsules` and any part of `obstacles`, metres
-/// (negative: that deep inside), and the part of the body where it is; `None` without
-/// obstacles. Parts farther apart than `horizon_m` in the plan view are skipped (their
-/// clearance is at least that).
-pub fn clearance(capsules: &[(Part, Capsule)], obstacles: &[Obstacle], horizon_m: f64) -> Option<(f64, Part)> {
+/// The least clearance between any of `capsules` and any of `prisms` (each with the bounding
+/// box of its outline), metres (negative: that deep inside), and the part of the body where it
+/// is; `None` without prisms. Pairs whose bounding boxes lie farther apart than `horizon_m`
+/// are skipped (their clearance is at least that), so a clearance reported at or above
+/// `horizon_m` means only "at least".
+pub fn clearance<'a>(
+    capsules: &[(Part, Capsule)],
+    prisms: impl IntoIterator<Item = (Prism<'a>, Aabb)>,
+    horizon_m: f64,
+) -> Option<(f64, Part)> {
     let mut best: Option<(f64, Part)> = None;
-    for o in obstacles {
-        for base in &o.parts {
-            let prism = Prism { base, z_min: o.z_min, z_max: o.z_max };
-            let b = base.aabb();
-            for &(part, c) in capsules {
-                let reach = c.radius + horizon_m;
-                let (lo, hi) = (c.a.min(c.b).truncate(), c.a.max(c.b).truncate());
-                if lo.x - reach > b.max.x || hi.x + reach < b.min.x || lo.y - reach > b.max.y || hi.y + reach < b.min.y
-                {
-                    continue;
-                }
-                let d = prism.capsule_clearance(&c);
-                if best.is_none_or(|(m, _)| d < m) {
-                    best = Some((d, part));
-                }
+    for (prism, b) in prisms {
+        for &(part, c) in capsules {
+            let reach = c.radius + horizon_m;
+            let (lo, hi) = (c.a.min(c.b), c.a.max(c.b));
+            if lo.x - reach > b.max.x
+                || hi.x + reach < b.min.x
+                || lo.y - reach > b.max.y
+                || hi.y + reach < b.min.y
+                || lo.z - reach > prism.z_max
+                || hi.z + reach < prism.z_min
+            {
+                continue;
+            }
+            let d = prism.capsule_clearance(&c);
+            if best.is_none_or(|(m, _)| d < m) {
+                best = Some((d, part));
             }
         }
     }
     best
+}
+
+/// The prisms of `obstacles`' parts with their bounding boxes, for [`clearance`].
+pub fn prisms(obstacles: &[Obstacle]) -> impl Iterator<Item = (Prism<'_>, Aabb)> {
+    obstacles
+        .iter()
+        .flat_map(|o| o.parts.iter().map(|base| (Prism { base, z_min: o.z_min, z_max: o.z_max }, base.aabb())))
 }
 
 /// The highest point of the capsules, metres (for the duck height).
@@ -300,10 +313,10 @@ mod tests {
             Obstacle::build(ObstacleShape::Box { center: DVec2::ZERO, width: 0.1, height: 3.0, yaw: 0.0 }, z_min, 2.5)
                 .unwrap()
         };
-        let (d, part) = clearance(&caps, &[bar(2.0)], 1.0).unwrap();
+        let (d, part) = clearance(&caps, prisms(&[bar(2.0)]), 1.0).unwrap();
         assert_eq!(part, Part::Head);
         assert!((d - (2.0 - top(&caps))).abs() < 1e-9, "{d}");
-        let (d, _) = clearance(&caps, &[bar(1.2)], 1.0).unwrap();
+        let (d, _) = clearance(&caps, prisms(&[bar(1.2)]), 1.0).unwrap();
         assert!(d < -0.1, "a bar at 1.2 m goes through the body: {d}");
         // A shelf beside the shoulder, at chest height, 0.1 m clear of the arm.
         let shelf = Obstacle::build(
@@ -312,10 +325,10 @@ mod tests {
             1.6,
         )
         .unwrap();
-        let (d, part) = clearance(&caps, &[shelf], 1.0).unwrap();
+        let (d, part) = clearance(&caps, prisms(&[shelf]), 1.0).unwrap();
         assert!(matches!(part, Part::UpperArm(0) | Part::Forearm(0)), "{part:?}");
         assert!((d - 0.1).abs() < 0.01, "{d}");
-        assert!(clearance(&caps, &[], 1.0).is_none());
+        assert!(clearance(&caps, prisms(&[]), 1.0).is_none());
     }
 
     #[test]

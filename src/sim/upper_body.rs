@@ -56,7 +56,7 @@ impl Default for UpperFigures {
 }
 
 /// The upper body of an animated character. See the [module docs](self).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct UpperBodyState {
     planner: UpperPlanner,
     solids: Arc<Solids>,
@@ -74,29 +74,6 @@ pub struct UpperBodyState {
     near: Vec<usize>,
     caps: Vec<(Part, Capsule)>,
     figures: UpperFigures,
-}
-
-impl Clone for UpperBodyState {
-    fn clone(&self) -> Self {
-        UpperBodyState {
-            planner: self.planner.clone(),
-            solids: Arc::clone(&self.solids),
-            terrain: self.terrain.clone(),
-            clock: self.clock.clone(),
-            h: self.h,
-            plan: self.plan.clone(),
-            next: self.next.clone(),
-            pending: self.pending.clone(),
-            refused: self.refused,
-            start: self.start,
-            speed: self.speed,
-            poses: Vec::new(),
-            scratch: Scratch::default(),
-            near: Vec::new(),
-            caps: Vec::new(),
-            figures: self.figures,
-        }
-    }
 }
 
 impl UpperBodyState {
