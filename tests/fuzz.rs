@@ -323,6 +323,29 @@ fn fuzz_fll() {
     });
 }
 
+/// Ground profiles of `strider steps`: parsed, and when they read, walked by the footstep
+/// planner (courses up to 30 m long; every step it takes passes the one step check).
+#[test]
+fn fuzz_profiles() {
+    use strider::footstep::{FootstepParams, PlannerMode, check_step, profile, walk};
+    fuzz("profile", |b| match profile::parse(&text_of(b), "p.profile") {
+        Ok(course) => {
+            if (course.goal_m - course.start_m).abs() <= 30.0 {
+                let params = FootstepParams::default();
+                if let Ok(w) = walk(&course, params, PlannerMode::Window) {
+                    for s in &w.steps {
+                        let sw = &s.swing;
+                        let (a, b, c) = (sw.lift_off.x_m, sw.stance.x_m, sw.touch_down.x_m);
+                        prop_assert!(check_step(&course.ground, &params, a, b, c).is_ok(), "an invalid step: {sw:?}");
+                    }
+                }
+            }
+            Ok(true)
+        }
+        Err(e) => located(&e, "p.profile").map(|_| false),
+    });
+}
+
 #[test]
 fn fuzz_rules() {
     let tipper =
