@@ -336,16 +336,19 @@ fn write_term(out: &mut String, t: &NamedTerm) {
     out.push('\n');
 }
 
+/// Free text (a name or a description a script gave) on one line: a line break in it is
+/// written as a space, so the file reads back.
+fn one_line(text: &str) -> String {
+    text.replace(['\n', '\r'], " ")
+}
+
 /// Writes `engine` as FLL.
 pub fn export(engine: &Engine) -> String {
     let mut s = String::new();
-    // A description is one line: a line break in it (a script may put one there) is written
-    // as a space, so the file reads back.
     let line = |s: &mut String, key: &str, value: &str| {
-        let value = value.replace(['\n', '\r'], " ");
-        s.push_str(&format!("  {key}: {value}\n"));
+        s.push_str(&format!("  {key}: {}\n", one_line(value)));
     };
-    s.push_str(&format!("Engine: {}\n", engine.name));
+    s.push_str(&format!("Engine: {}\n", one_line(&engine.name)));
     if !engine.description.is_empty() {
         line(&mut s, "description", &engine.description);
     }
@@ -390,7 +393,7 @@ pub fn export(engine: &Engine) -> String {
         }
     }
     for b in &engine.rule_blocks {
-        s.push_str(&format!("RuleBlock: {}\n", b.name));
+        s.push_str(&format!("RuleBlock: {}\n", one_line(&b.name)));
         if !b.description.is_empty() {
             line(&mut s, "description", &b.description);
         }
@@ -448,11 +451,13 @@ RuleBlock: rules
 ";
 
     #[test]
-    fn a_description_with_line_breaks_is_written_on_one_line() {
+    fn names_and_descriptions_with_line_breaks_are_written_on_one_line() {
         let mut e = import(SMALL, "d.fll").unwrap();
+        e.name = "goal seeking\nav".into();
         e.description = "goal seeking\nmasked by\r\nobstacle nearness".into();
         e.inputs[0].description = "first\rsecond".into();
         let back = import(&export(&e), "export.fll").unwrap();
+        assert_eq!(back.name, "goal seeking av");
         assert_eq!(back.description, "goal seeking masked by  obstacle nearness");
         assert_eq!(back.inputs[0].description, "first second");
     }
