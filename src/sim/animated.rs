@@ -356,6 +356,23 @@ impl Chooser for LookAhead<'_> {
         let task = Task { turn_rate: 0.0, speed: self.command.speed };
         let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
         ranker.rank(db, at.ending, errors, task, self.rng, self.order);
+        // Facing away from where it should go, the policy's first choice stands and turns, but
+        // this stance cannot reach it (the feet are apart mid-stride): the way there is to stop
+        // first, so the candidates that bring the character to rest go before the rest, in the
+        // policy's order (else it walks on the wrong way, never reaching a stance to turn from).
+        if errors.direction.abs() > std::f64::consts::FRAC_PI_2
+            && let Some(&first) = self.order.first()
+            && db.kinds[db.candidates[at.ending][first].interval].in_place
+            && at.reach_gap(db, first) > LOCK_REACH_M
+        {
+            let stops = |a: &usize| {
+                let k = db.kinds[db.candidates[at.ending][*a].interval];
+                k.stops && !k.in_place
+            };
+            let (mut front, back): (Vec<usize>, Vec<usize>) = self.order.iter().partition(|a| stops(a));
+            front.extend(back);
+            *self.order = front;
+        }
         if let Some((u, start)) = &mut self.upper {
             u.begin_choice(*start);
         }
