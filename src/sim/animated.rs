@@ -10,7 +10,9 @@
 //! disc with a clearance margin, stays clear, and — unless it stays in place — if from its end
 //! a turn on the spot is clear too, so the character never walks where it could not turn round.
 //! A character with nothing clear ahead stops or turns on the spot the way a person does — it
-//! never pushes into a wall.
+//! never pushes into a wall. One facing away from its way (more than 90°) whose policy would
+//! stand and turn, but from a stance mid-stride that cannot reach that, stops first rather
+//! than walk on the wrong way.
 //!
 //! In a world where things move (other agents), the rest of the interval playing is checked at
 //! every step; when something unexpected blocks it, the character switches early with a short
