@@ -301,12 +301,12 @@ impl Table1 {
     pub fn to_text(&self) -> String {
         let mut out = String::new();
         out.push_str(
-            "environment      planner    state  table entries  stored  train episodes  train s  success  unseen  collisions\n",
+            "environment      planner    state  table entries    stored  train episodes  train s  success  unseen  collisions\n",
         );
         for e in &self.environments {
             for (name, p) in [("pure RL", &e.pure_rl), ("fuzzy+RL", &e.fuzzy_rl)] {
                 out.push_str(&format!(
-                    "{:<16} {:<9} {:>6} {:>14.3e} {:>7} {:>15} {:>8.1} {:>7.1}% {:>6.1}% {:>11}\n",
+                    "{:<16} {:<9} {:>6} {:>14.3e} {:>9} {:>15} {:>8.1} {:>7.1}% {:>6.1}% {:>11}\n",
                     e.name,
                     name,
                     p.state_parameters,
