@@ -260,6 +260,21 @@ impl RootMotion {
         self.source.map_or(1.0, |s| smoothstep((s.elapsed / s.span).clamp(0.0, 1.0)))
     }
 
+    /// The relative pose now: the interval's, blended with a cross-fade's source.
+    fn relative_pose(&self, db: &Database) -> Pose {
+        let iv = &db.intervals[self.interval];
+        let dst = db.relative_pose(iv.clip, self.frame);
+        match &self.source {
+            Some(s) => {
+                let src = db.relative_pose(s.clip, s.frame);
+                let mut rel = src.clone();
+                rel.blend_from(&src, &dst, self.weight());
+                rel
+            }
+            None => dst,
+        }
+    }
+
     /// Appends to `out` the world positions of the root over the rest of the interval playing,
     /// starting with where it is: every few frames while blending, then at the interval's
     /// sweep frames ([`Database::sweep_frames`]) — consecutive points at most about
@@ -331,16 +346,7 @@ impl SwitchPoint {
         let iv = &db.intervals[root.interval];
         let ft = db.clips[iv.clip].frame_time;
         let end = iv.end as f64;
-        let pose_of = |root: &RootMotion| {
-            let mut rel = db.relative_pose(iv.clip, root.frame);
-            if let Some(s) = &root.source {
-                let w = smoothstep((s.elapsed / s.span).clamp(0.0, 1.0));
-                let src = db.relative_pose(s.clip, s.frame);
-                let dst = std::mem::replace(&mut rel, src.clone());
-                rel.blend_from(&src, &dst, w);
-            }
-            rel
-        };
+        let pose_of = |root: &RootMotion| root.relative_pose(db);
         let place = |mut rel: Pose, at: Ground| {
             at.transform_pose(&mut rel, false);
             rel
@@ -486,7 +492,6 @@ pub struct Player {
     root: RootMotion,
     inertial: Option<Inertial>,
     rel: Pose,
-    scratch: Pose,
     pose: Pose,
     globals: Vec<(DVec3, DQuat)>,
     history: Vec<Vec<DVec3>>,
@@ -518,7 +523,6 @@ impl Player {
                 source: None,
             },
             inertial: None,
-            scratch: rel.clone(),
             pose: rel.clone(),
             rel,
             globals: Vec::new(),
@@ -722,14 +726,7 @@ impl Player {
     /// offset by inertialization.
     fn refresh_pose(&mut self, db: &Database) {
         let h = 1.0 / self.params.frame_rate;
-        let iv = &db.intervals[self.root.interval];
-        self.rel = db.relative_pose(iv.clip, self.root.frame);
-        if let Some(s) = &self.root.source {
-            let w = smoothstep((s.elapsed / s.span).clamp(0.0, 1.0));
-            self.scratch = db.relative_pose(s.clip, s.frame);
-            let dst = std::mem::replace(&mut self.rel, self.scratch.clone());
-            self.rel.blend_from(&self.scratch, &dst, w);
-        }
+        self.rel = self.root.relative_pose(db);
         if let Some(k) = &mut self.inertial {
             k.elapsed += h;
             let y = 2.0 * std::f64::consts::LN_2 / self.params.halflife_s;

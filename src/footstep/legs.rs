@@ -316,13 +316,20 @@ impl Swing {
         Ok(hip)
     }
 
+    /// The hip at phase `t` (0–1) of the planned step, profile coordinates: what
+    /// [`Swing::pose_at`] stands the legs under.
+    pub fn hip_pose_at(&self, t: f64) -> DVec2 {
+        let t = t.clamp(0.0, 1.0);
+        // Every sample was checked when the step was planned; between samples the hip is the
+        // same continuous function, so the fallback only guards against rounding.
+        self.hip_at(t).unwrap_or_else(|_| DVec2::new(self.hip_x_at(t), self.hip_keys[1]))
+    }
+
     /// Both legs at phase `t` (clamped to `[0, 1]`).
     pub fn pose_at(&self, t: f64) -> StepPose {
         let t = t.clamp(0.0, 1.0);
         let leg = &self.leg;
-        // Every sample was checked when the step was planned; between samples the hip is the
-        // same continuous function, so the fallback only guards against rounding.
-        let hip = self.hip_at(t).unwrap_or_else(|_| DVec2::new(self.hip_x_at(t), self.hip_keys[1]));
+        let hip = self.hip_pose_at(t);
         let length = leg.foot_length_m();
         let pose = |sole: Sole| {
             let ankle = ankle_of(leg, &sole);

@@ -262,7 +262,7 @@ impl Footing {
                         planted: i != swinging,
                     };
                 }
-                hip_z = p.swing.pose_at(t).stance.hip.y;
+                hip_z = p.swing.hip_pose_at(t).y;
             }
             None => {
                 let mut globals = Vec::with_capacity(skeleton.len());

@@ -291,9 +291,7 @@ impl Terrain {
         }
         GroundProfile::new(pieces).ok()
     }
-}
 
-impl Terrain {
     /// The ground under a strip along the path: the profiles of the lines at `offsets` metres
     /// to the left of the vertical plane through `origin` along `dir` (see
     /// [`Terrain::profile`]), taken together. There is ground at X only where every line has
