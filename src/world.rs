@@ -112,6 +112,47 @@ impl World {
         best
     }
 
+    /// [`World::ray_cast`] along every ray of an all-around fan from `origin` at once: `rays[k]`
+    /// is the unit direction at angle `2πk/n` (`n = rays.len()`), and `out[k]` becomes the
+    /// distance to the first obstacle it hits, or infinity when it hits nothing within `max`.
+    /// The obstacles within `max` are gathered once, and each is cast only along the rays that
+    /// point at its bounding circle, so the cost follows the obstacles nearby, not the rays
+    /// times the index's depth. Every hit is the one [`World::ray_cast`] finds.
+    pub fn ray_fan(&self, origin: DVec2, rays: &[DVec2], max: f64, scratch: &mut Vec<usize>, out: &mut Vec<f64>) {
+        let n = rays.len();
+        out.clear();
+        out.resize(n, f64::INFINITY);
+        if n == 0 {
+            return;
+        }
+        let step = std::f64::consts::TAU / n as f64;
+        self.index.query_circle(origin, max, scratch);
+        for &i in scratch.iter() {
+            let Some(bounds) = self.index.aabb(i) else { continue };
+            let to = bounds.center() - origin;
+            let (d, r) = (to.length(), 0.5 * (bounds.max - bounds.min).length());
+            // The rays that may meet the bounding circle, a ray more each side for rounding.
+            let (first, count) = if r < d {
+                let half = (r / d).asin();
+                let a = to.y.atan2(to.x);
+                let lo = ((a - half) / step).floor() as i64 - 1;
+                let hi = ((a + half) / step).ceil() as i64 + 1;
+                (lo, ((hi - lo + 1) as usize).min(n))
+            } else {
+                (0, n)
+            };
+            let shape = &self.parts[i].shape;
+            for k in 0..count {
+                let k = (first + k as i64).rem_euclid(n as i64) as usize;
+                if let Some(t) = shape.ray_cast(origin, rays[k], max)
+                    && t < out[k]
+                {
+                    out[k] = t;
+                }
+            }
+        }
+    }
+
     /// Distance along the ray from `origin` in unit direction `dir` to the first obstacle hit,
     /// up to `max` (`None`: nothing hit).
     pub fn ray_cast(&self, origin: DVec2, dir: DVec2, max: f64, scratch: &mut Vec<usize>) -> Option<f64> {

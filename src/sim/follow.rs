@@ -111,7 +111,8 @@ pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, clearance: f64, rang
     }
     let step = std::f64::consts::TAU / n as f64;
     let lo = ((heading.rem_euclid(std::f64::consts::TAU) / step).floor() as usize) % n;
-    let dir = |d: usize| ((step * d as f64).cos(), (step * d as f64).sin());
+    let fan = super::Fan::of(n);
+    let dir = |d: usize| fan.turns[d];
     // The two rays of [`super::swept_free`] around the heading, for the grown disc (obstacle
     // points stay where the scan saw them).
     let along_ray = |i: usize| super::swept_free_along(scan, i, radius, radius + clearance, range, dir);

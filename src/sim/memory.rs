@@ -22,7 +22,7 @@
 //! kept when that leaves one at least a metre ahead. The grid grows as the agent explores.
 //! Everything is deterministic: plain vectors, ties broken by cell index.
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::DVec2;
@@ -98,15 +98,13 @@ pub struct Memory {
     origin: DVec2,
     nx: usize,
     ny: usize,
-    /// A ray hit an obstacle in this cell.
-    marked: Vec<bool>,
-    /// Cells in `marked`.
+    /// What is known of each cell: [`MARKED`] when a ray hit an obstacle in it, [`HARD`] when
+    /// a marked cell lies within the agent's radius (the cell cannot be crossed), and in the
+    /// [`BAND`] bits how deep it lies in the clearance margin of a marked cell (0 outside it,
+    /// [`BANDS`] within the innermost band).
+    cells: Vec<u8>,
+    /// Marked cells.
     known: usize,
-    /// A marked cell lies within the agent's radius: the cell cannot be crossed.
-    hard: Vec<bool>,
-    /// How deep the cell lies in the clearance margin of a marked cell: 0 outside it,
-    /// [`BANDS`] within the innermost band.
-    band: Vec<u8>,
     /// The cells a marked cell inflates, as offsets from it: whether each is closed, and its
     /// band of the margin.
     inflation: Vec<(i64, i64, bool, u8)>,
@@ -121,36 +119,49 @@ pub struct Memory {
     stale: bool,
     /// Plans made so far.
     pub plans: u32,
+    /// Plans that searched the grid (the others kept a way no search could replace).
+    pub searches: u32,
     scratch: Search,
 }
 
-/// Reused A* state (generation stamps avoid clearing the arrays).
+/// A cell's bit: a ray hit an obstacle in it.
+const MARKED: u8 = 0x10;
+
+/// A cell's bit: it cannot be crossed.
+const HARD: u8 = 0x20;
+
+/// A cell's bits holding its band of the margin.
+const BAND: u8 = 0x03;
+
+/// Reused A* state (generation stamps avoid clearing it).
 #[derive(Debug, Clone, Default)]
 struct Search {
-    stamp: Vec<u32>,
+    nodes: Vec<Node>,
     generation: u32,
-    cost: Vec<f32>,
-    parent: Vec<u32>,
+    open: BinaryHeap<Reverse<u64>>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Open {
-    f: f32,
-    cell: u32,
+/// A cell's state in the search: reached in the search of this generation, at this cost, from
+/// this parent.
+#[derive(Debug, Clone, Copy, Default)]
+struct Node {
+    stamp: u32,
+    cost: f32,
+    parent: u32,
 }
 
-impl Eq for Open {}
+/// An open cell of the search as one integer key: its estimate `f` (never negative, so its
+/// bits order as the number does) above its index, so that the least key is the least `f`, ties
+/// to the lowest cell.
+struct Open;
 
-impl Ord for Open {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // A min-heap on f, ties by cell index.
-        other.f.total_cmp(&self.f).then(other.cell.cmp(&self.cell))
+impl Open {
+    fn key(f: f32, cell: usize) -> u64 {
+        (u64::from(if f > 0.0 { f } else { 0.0 }.to_bits()) << 32) | cell as u64
     }
-}
 
-impl PartialOrd for Open {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
+    fn unkey(key: u64) -> (f32, usize) {
+        (f32::from_bits((key >> 32) as u32), (key & 0xffff_ffff) as usize)
     }
 }
 
@@ -192,10 +203,8 @@ impl Memory {
             origin,
             nx,
             ny,
-            marked: vec![false; nx * ny],
+            cells: vec![0; nx * ny],
             known: 0,
-            hard: vec![false; nx * ny],
-            band: vec![0; nx * ny],
             inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
             reach_cells,
             stale_m: radius.max(0.0) + params.margin_m + c,
@@ -203,6 +212,7 @@ impl Memory {
             path: Vec::new(),
             stale: true,
             plans: 0,
+            searches: 0,
             scratch: Search::default(),
         }
     }
@@ -232,20 +242,14 @@ impl Memory {
         let hi_x = (i + GROW_CELLS + 1).max(nx);
         let hi_y = (j + GROW_CELLS + 1).max(ny);
         let (wx, wy) = ((hi_x - lo_x) as usize, (hi_y - lo_y) as usize);
-        let mut marked = vec![false; wx * wy];
-        let mut hard = vec![false; wx * wy];
-        let mut band = vec![0u8; wx * wy];
+        let mut cells = vec![0u8; wx * wy];
         for y in 0..ny {
-            for x in 0..nx {
-                let from = (y * nx + x) as usize;
-                let to = ((y - lo_y) as usize) * wx + (x - lo_x) as usize;
-                marked[to] = self.marked[from];
-                hard[to] = self.hard[from];
-                band[to] = self.band[from];
-            }
+            let from = (y * nx) as usize;
+            let to = ((y - lo_y) as usize) * wx + (-lo_x) as usize;
+            cells[to..to + nx as usize].copy_from_slice(&self.cells[from..from + nx as usize]);
         }
         self.origin -= DVec2::new(-lo_x as f64, -lo_y as f64) * self.params.cell_m;
-        (self.nx, self.ny, self.marked, self.hard, self.band) = (wx, wy, marked, hard, band);
+        (self.nx, self.ny, self.cells) = (wx, wy, cells);
         // Cells the path passes keep their world positions; the plan stays valid.
     }
 
@@ -256,15 +260,15 @@ impl Memory {
         }
         let (i, j) = self.cell_of(p);
         let Some(k) = self.index(i, j) else { return };
-        if self.marked[k] {
+        if self.cells[k] & MARKED != 0 {
             return;
         }
-        self.marked[k] = true;
+        self.cells[k] |= MARKED;
         self.known += 1;
         for &(dx, dy, closed, band) in &self.inflation {
             let Some(n) = self.index(i + dx, j + dy) else { continue };
-            self.hard[n] |= closed;
-            self.band[n] = self.band[n].max(band);
+            let cell = &mut self.cells[n];
+            *cell = (*cell & !BAND) | (*cell & BAND).max(band) | if closed { HARD } else { 0 };
         }
         if !self.stale {
             // Does the new obstacle come near the path?
@@ -289,10 +293,10 @@ impl Memory {
         let (ci, cj) = self.cell_of(from);
         self.include(ci + reach, cj + reach);
         let c = self.params.cell_m;
+        let fan = super::Fan::of(n);
         for (k, &f) in scan.iter().enumerate() {
             if f.is_finite() && f < range {
-                let dir = DVec2::from_angle(std::f64::consts::TAU * k as f64 / n as f64);
-                self.mark(from + dir * (f + radius));
+                self.mark(from + fan.rays[k] * (f + radius));
             }
         }
         // Hits of neighbouring rays closer than the disc's width are one surface (the disc
@@ -302,8 +306,8 @@ impl Memory {
             if !(a < range && b < range) {
                 continue;
             }
-            let pa = from + DVec2::from_angle(std::f64::consts::TAU * k as f64 / n as f64) * (a + radius);
-            let pb = from + DVec2::from_angle(std::f64::consts::TAU * ((k + 1) % n) as f64 / n as f64) * (b + radius);
+            let pa = from + fan.rays[k] * (a + radius);
+            let pb = from + fan.rays[(k + 1) % n] * (b + radius);
             let len = pa.distance(pb);
             if len >= 2.0 * radius {
                 continue;
@@ -396,11 +400,11 @@ impl Memory {
                 continue;
             }
             let Some(c) = self.index(i, j) else { continue };
-            if self.hard[c] {
+            if self.cells[c] & HARD != 0 {
                 return None;
             }
             if q.distance(a) > STRIDE_M {
-                depth = depth.max(self.band[c]);
+                depth = depth.max(self.cells[c] & BAND);
             }
         }
         Some(depth)
@@ -419,50 +423,65 @@ impl Memory {
         let (gi, gj) = self.cell_of(self.goal);
         let (si, sj) = self.cell_of(from);
         let (Some(start), Some(goal)) = (self.index(si, sj), self.index(gi, gj)) else { return };
+        let c = self.params.cell_m as f32;
+        let octile = |x: i64, y: i64| -> f32 {
+            let (dx, dy) = ((x - gi).abs() as f32, (y - gj).abs() as f32);
+            c * (dx.max(dy) + (std::f32::consts::SQRT_2 - 1.0) * dx.min(dy))
+        };
+        // No way is shorter than the straight octile distance (every step of the search costs
+        // at least its length): when the kept way is within the switching allowance of that,
+        // no new plan could replace it, and the search is skipped.
+        if keep
+            && let Some(old_cost) = self.path_cost(from, &old)
+            && old_cost <= octile(si, sj) * (1.0 - 1e-4) * (1.0 + SWITCH_SHARE) + SWITCH_M
+        {
+            self.path = old;
+            return;
+        }
+        self.searches += 1;
         let n = self.nx * self.ny;
         let s = &mut self.scratch;
-        if s.stamp.len() != n {
-            s.stamp = vec![0; n];
-            s.cost = vec![0.0; n];
-            s.parent = vec![0; n];
+        if s.nodes.len() != n {
+            s.nodes = vec![Node::default(); n];
             s.generation = 0;
         }
         s.generation = s.generation.wrapping_add(1);
         if s.generation == 0 {
-            s.stamp.iter_mut().for_each(|x| *x = 0);
+            s.nodes.iter_mut().for_each(|x| x.stamp = 0);
             s.generation = 1;
         }
         let gen_ = s.generation;
-        let c = self.params.cell_m as f32;
-        let h = |k: usize| -> f32 {
-            let (x, y) = ((k % self.nx) as i64, (k / self.nx) as i64);
-            let (dx, dy) = ((x - gi).abs() as f32, (y - gj).abs() as f32);
-            c * (dx.max(dy) + (std::f32::consts::SQRT_2 - 1.0) * dx.min(dy))
-        };
-        let mut open = BinaryHeap::new();
-        s.stamp[start] = gen_;
-        s.cost[start] = 0.0;
-        s.parent[start] = start as u32;
-        open.push(Open { f: h(start), cell: start as u32 });
+        let (nodes, open) = (&mut s.nodes, &mut s.open);
+        open.clear();
+        nodes[start] = Node { stamp: gen_, cost: 0.0, parent: start as u32 };
+        open.push(Reverse(Open::key(octile(si, sj), start)));
         // Closed cells the agent may cross to get out of the inflation it stands in.
         let escape = self.reach_cells;
+        // The cost of a straight and of a diagonal step into a cell of each band.
         let margin_cost = self.params.margin_cost as f32 / f32::from(BANDS);
+        let step_cost: [[f32; 2]; BAND as usize + 1] = std::array::from_fn(|band| {
+            let extra = margin_cost * f32::from(band as u8);
+            [c * 1.0 * (1.0 + extra), c * std::f32::consts::SQRT_2 * (1.0 + extra)]
+        });
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let cells = &self.cells;
         let mut expanded = 0usize;
         let mut found = false;
-        const STEPS: [(i64, i64, f32); 8] = [
-            (1, 0, 1.0),
-            (-1, 0, 1.0),
-            (0, 1, 1.0),
-            (0, -1, 1.0),
-            (1, 1, std::f32::consts::SQRT_2),
-            (1, -1, std::f32::consts::SQRT_2),
-            (-1, 1, std::f32::consts::SQRT_2),
-            (-1, -1, std::f32::consts::SQRT_2),
+        const STEPS: [(i64, i64, bool); 8] = [
+            (1, 0, false),
+            (-1, 0, false),
+            (0, 1, false),
+            (0, -1, false),
+            (1, 1, true),
+            (1, -1, true),
+            (-1, 1, true),
+            (-1, -1, true),
         ];
-        while let Some(Open { f, cell }) = open.pop() {
-            let k = cell as usize;
-            let g = s.cost[k];
-            if f > g + h(k) + 1e-3 {
+        while let Some(Reverse(key)) = open.pop() {
+            let (f, k) = Open::unkey(key);
+            let g = nodes[k].cost;
+            let (x, y) = ((k as i64) % nx, (k as i64) / nx);
+            if f > g + octile(x, y) + 1e-3 {
                 continue; // an outdated entry
             }
             if k == goal {
@@ -473,41 +492,38 @@ impl Memory {
             if expanded > self.params.max_expansions {
                 break;
             }
-            let (x, y) = ((k % self.nx) as i64, (k / self.nx) as i64);
-            for &(dx, dy, len) in &STEPS {
-                let (nx_, ny_) = (x + dx, y + dy);
-                if nx_ < 0 || ny_ < 0 || nx_ as usize >= self.nx || ny_ as usize >= self.ny {
+            for &(dx, dy, diagonal) in &STEPS {
+                let (mx, my) = (x + dx, y + dy);
+                if mx < 0 || my < 0 || mx >= nx || my >= ny {
                     continue;
                 }
-                let m = ny_ as usize * self.nx + nx_ as usize;
+                let m = (my * nx + mx) as usize;
+                let cell = cells[m];
                 // The agent may stand in inflated cells (close to a wall): it may leave them,
                 // but closed cells are crossed only within the disc's reach of where it stands,
                 // never through a wall.
-                if self.hard[m] && m != goal && (self.marked[m] || (nx_ - si).abs().max((ny_ - sj).abs()) > escape) {
+                if cell & HARD != 0
+                    && m != goal
+                    && (cell & MARKED != 0 || (mx - si).abs().max((my - sj).abs()) > escape)
+                {
                     continue;
                 }
-                if dx != 0 && dy != 0 {
-                    // No squeezing diagonally between two closed cells.
-                    let a = y as usize * self.nx + nx_ as usize;
-                    let b = ny_ as usize * self.nx + x as usize;
-                    if self.hard[a] && self.hard[b] {
-                        continue;
-                    }
+                // No squeezing diagonally between two closed cells.
+                if diagonal && cells[(y * nx + mx) as usize] & cells[(my * nx + x) as usize] & HARD != 0 {
+                    continue;
                 }
-                let extra = margin_cost * f32::from(self.band[m]);
-                let ng = g + c * len * (1.0 + extra);
-                if s.stamp[m] != gen_ || ng < s.cost[m] {
-                    s.stamp[m] = gen_;
-                    s.cost[m] = ng;
-                    s.parent[m] = k as u32;
-                    open.push(Open { f: ng + h(m), cell: m as u32 });
+                let ng = g + step_cost[usize::from(cell & BAND)][usize::from(diagonal)];
+                let node = &mut nodes[m];
+                if node.stamp != gen_ || ng < node.cost {
+                    *node = Node { stamp: gen_, cost: ng, parent: k as u32 };
+                    open.push(Reverse(Open::key(ng + octile(mx, my), m)));
                 }
             }
         }
         if !found {
             return;
         }
-        let cost = s.cost[goal];
+        let cost = self.scratch.nodes[goal].cost;
         // Two ways round an obstacle often cost about the same: keep going the way already
         // chosen unless the new one is clearly shorter, so that the agent does not swing
         // between them.
@@ -522,7 +538,7 @@ impl Memory {
         let mut cells = vec![goal];
         let mut k = goal;
         while k != start {
-            k = s.parent[k] as usize;
+            k = s.nodes[k].parent as usize;
             cells.push(k);
         }
         cells.reverse();
@@ -535,7 +551,7 @@ impl Memory {
 
     /// Extra cost per metre of crossing cell `k` (its depth in the margin).
     fn margin_cost(&self, k: usize) -> f32 {
-        self.params.margin_cost as f32 * f32::from(self.band[k]) / f32::from(BANDS)
+        self.params.margin_cost as f32 * f32::from(self.cells[k] & BAND) / f32::from(BANDS)
     }
 
     /// Cost of following `path` from `from` under what is remembered now (as the search counts
@@ -547,7 +563,7 @@ impl Memory {
         for &p in path {
             let (i, j) = self.cell_of(p);
             let k = self.index(i, j)?;
-            if self.hard[k] && (i, j) != here {
+            if self.cells[k] & HARD != 0 && (i, j) != here {
                 return None;
             }
             let extra = self.margin_cost(k);
