@@ -22,8 +22,8 @@
 //! kept when that leaves one at least a metre ahead. The grid grows as the agent explores.
 //! Everything is deterministic: plain vectors, ties broken by cell index.
 
+use dary_heap::QuaternaryHeap;
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 use glam::DVec2;
 
@@ -138,7 +138,7 @@ const BAND: u8 = 0x03;
 struct Search {
     nodes: Vec<Node>,
     generation: u32,
-    open: BinaryHeap<Reverse<u64>>,
+    open: QuaternaryHeap<Reverse<u64>>,
 }
 
 /// A cell's state in the search: reached in the search of this generation, at this cost, from
