@@ -135,6 +135,10 @@ pub struct Agent {
     pub reachable_goal_distance: f64,
     /// Distance from the goal to the nearest obstacle point the last scan saw, metres.
     pub obstacle_goal_distance: f64,
+    /// Where the agent last moved [`STUCK_MOVE_M`] away from, and when (seconds): an agent that
+    /// stays that near for [`STUCK_S`] closes the gaps just ahead of it that its body does not
+    /// pass through.
+    progress: (DVec2, f64),
     scan: Vec<f64>,
     /// The last scan of the world's obstacles alone (no other agents).
     walls: Vec<f64>,
@@ -185,6 +189,13 @@ impl Body for AgentBody {
         match self {
             AgentBody::Disc(d) => d.turn_limit(speed),
             AgentBody::Animated(a) => a.turn_limit(speed),
+        }
+    }
+
+    fn passage_m(&self) -> f64 {
+        match self {
+            AgentBody::Disc(d) => d.passage_m(),
+            AgentBody::Animated(a) => a.passage_m(),
         }
     }
 
@@ -329,6 +340,7 @@ impl Simulation {
             aim_m: f64::INFINITY,
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
+            progress: (task.start.position, 0.0),
             scan: Vec::new(),
             walls: Vec::new(),
         });
@@ -400,6 +412,28 @@ impl Simulation {
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;
                 }
+                // A way the body has not been able to follow for long may lead through a gap
+                // it does not fit through (the memory closes gaps at the disc's own width; a
+                // character keeps a margin beyond it): such gaps just ahead are remembered as
+                // closed, and the next plan goes round.
+                let (anchor, since) = &mut agent.progress;
+                if pose.position.distance(*anchor) > STUCK_MOVE_M {
+                    (*anchor, *since) = (pose.position, t);
+                } else if t - *since > STUCK_S {
+                    let keep = agent.task.goal_radius + STUCK_GOAL_M;
+                    let passage = agent.body.passage_m();
+                    // The range sensor measures the way across, both sides.
+                    let world = &self.world;
+                    let scratch = &mut self.scratch;
+                    let width = |p: DVec2, across: DVec2| -> f64 {
+                        [across, -across]
+                            .iter()
+                            .map(|&d| world.ray_cast(p, d, passage, scratch).unwrap_or(passage))
+                            .sum()
+                    };
+                    agent.memory.close_gaps_ahead(pose.position, passage, keep, width);
+                    *since = t;
+                }
                 agent.obstacle_goal_distance =
                     obstacle_goal_distance(&agent.scan, pose.position, agent.task.goal, radius, FOLLOWED_REACH_M);
             }
@@ -449,6 +483,17 @@ impl Simulation {
         self.time_s = t + dt;
     }
 }
+
+/// An agent that has stayed within [`STUCK_MOVE_M`] of a place for this long closes the gaps
+/// just ahead of it that its body does not pass through, seconds.
+pub const STUCK_S: f64 = 15.0;
+
+/// See [`STUCK_S`], metres.
+pub const STUCK_MOVE_M: f64 = 0.5;
+
+/// The way is never closed this near the goal circle, metres (an agent circling its goal is
+/// not held up by a gap).
+const STUCK_GOAL_M: f64 = 1.0;
 
 /// Obstacle points within this free distance count as the boundary being followed, metres.
 pub const FOLLOWED_REACH_M: f64 = 1.2;

@@ -257,6 +257,11 @@ pub const LOCK_REACH_M: f64 = 0.2;
 /// Allowance added to every clearance check of a sampled root path for the curve between its
 /// points, metres.
 const PATH_ALLOWANCE_M: f64 = 0.005;
+/// Room a side the character needs beyond its disc and margin to walk through a gap rather
+/// than past it, metres: its clips curve and sway, and it must be able to stop or turn round
+/// after every step (0.85 m in all; the narrowest corridor it walks is 0.84 m).
+const PASSAGE_SLACK_M: f64 = 0.075;
+
 /// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
 /// shifts over the feet).
 const IN_PLACE_SLACK_M: f64 = 0.02;
@@ -633,6 +638,10 @@ impl Body for AnimatedBody {
 
     fn radius(&self) -> f64 {
         self.radius
+    }
+
+    fn passage_m(&self) -> f64 {
+        2.0 * (self.radius + self.anim.clearance_m + PASSAGE_SLACK_M)
     }
 
     fn turn_limit(&self, speed: f64) -> f64 {

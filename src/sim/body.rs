@@ -90,6 +90,11 @@ pub trait Body {
     fn radius(&self) -> f64;
     /// The largest turn rate the body can follow at `speed`, radians per second.
     fn turn_limit(&self, speed: f64) -> f64;
+    /// Width of the narrowest gap the body passes through, metres: its disc's unless it keeps
+    /// a margin beyond it.
+    fn passage_m(&self) -> f64 {
+        2.0 * self.radius()
+    }
     /// Advances by `dt` seconds following `command` through `space`.
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome;
 }

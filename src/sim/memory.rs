@@ -76,6 +76,12 @@ const BANDS: u8 = 3;
 /// (standing close to a wall, the agent may still aim along it).
 const STRIDE_M: f64 = 0.25;
 
+/// [`Memory::close_ahead`] looks this far along the path and no nearer, metres.
+const AHEAD_MAX_M: f64 = 1.5;
+
+/// See [`AHEAD_MAX_M`].
+const AHEAD_MIN_M: f64 = 0.2;
+
 /// Cells added around the known area when the grid grows.
 const GROW_CELLS: i64 = 40;
 
@@ -385,6 +391,48 @@ impl Memory {
         Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
     }
 
+    /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its
+    /// way: the points of the path between [`AHEAD_MIN_M`] and [`AHEAD_MAX_M`] along it where
+    /// the way across the path is narrower than `passage` metres (`width(p, across)` measures
+    /// it, `across` a unit vector) are remembered as obstacles, so the next plan goes round.
+    /// Only points in the margin of remembered obstacles are measured, and the last `keep_m`
+    /// before the goal are left as they are. True when something was closed.
+    pub fn close_gaps_ahead(
+        &mut self,
+        from: DVec2,
+        passage: f64,
+        keep_m: f64,
+        mut width: impl FnMut(DVec2, DVec2) -> f64,
+    ) -> bool {
+        let mut along = 0.0;
+        let mut prev = from;
+        let mut close = Vec::new();
+        for (k, &p) in self.path.iter().enumerate() {
+            along += prev.distance(p);
+            prev = p;
+            if along > AHEAD_MAX_M {
+                break;
+            }
+            if along < AHEAD_MIN_M || p.distance(self.goal) <= keep_m {
+                continue;
+            }
+            let (i, j) = self.cell_of(p);
+            if self.index(i, j).is_none_or(|c| self.cells[c] & BAND == 0) {
+                continue;
+            }
+            let next = self.path.get(k + 1).copied().unwrap_or(self.goal);
+            let dir = (next - self.path[k.saturating_sub(1)]).normalize_or_zero();
+            if dir != DVec2::ZERO && width(p, dir.perp()) < passage {
+                close.push(p);
+            }
+        }
+        for &p in &close {
+            self.mark(p);
+        }
+        self.stale |= !close.is_empty();
+        !close.is_empty()
+    }
+
     /// The deepest band of the margin the straight line from `a` to `b` crosses, or `None`
     /// when it crosses a closed cell (the cell the agent stands in does not count, nor, for
     /// the margin, cells within the agent's first stride).
@@ -645,6 +693,41 @@ mod tests {
         let aim = m.heading(from, |_| f64::INFINITY).unwrap();
         assert!(aim.remaining_m > 3.0, "{aim:?}");
         assert!(m.path().iter().all(|p| p.x < 1.9 || p.x > 2.2 || p.y < -1.0 || p.y > 5.0), "{:?}", m.path());
+    }
+
+    #[test]
+    fn a_gap_too_narrow_for_the_body_is_closed_and_a_wide_one_kept() {
+        // A wall along x = 2 with a 0.7 m gap at y ∈ [-0.35, 0.35] (the disc of radius 0.3
+        // fits; a body that needs 0.85 m does not), and a way round its upper end.
+        let from = DVec2::new(1.0, 0.0);
+        let goal = DVec2::new(4.0, 0.0);
+        let wall = |m: &mut Memory, gap: f64| {
+            for k in 0..=128 {
+                let y = -5.0 + 0.0625 * k as f64;
+                if y.abs() > gap / 2.0 && y < 3.0 {
+                    m.mark(DVec2::new(2.05, y));
+                }
+            }
+        };
+        let width = |gap: f64| move |p: DVec2, _: DVec2| if (p.x - 2.05).abs() < 0.3 { gap } else { 10.0 };
+        let mut m = Memory::new(from, goal, 0.3, MemoryParams::default());
+        wall(&mut m, 0.7);
+        let through = m.heading(from, |_| f64::INFINITY).unwrap();
+        assert!(through.remaining_m < 3.5, "through the gap: {through:?}");
+        // The body fits: nothing is closed, the way stays.
+        assert!(!m.close_gaps_ahead(from, 0.6, 0.5, width(0.7)));
+        assert_eq!(m.heading(from, |_| f64::INFINITY), Some(through));
+        // It does not: the gap is closed and the way goes round the wall's upper end.
+        let known = m.known();
+        assert!(m.close_gaps_ahead(from, 0.85, 0.5, width(0.7)));
+        assert!(m.known() > known);
+        let round = m.heading(from, |_| f64::INFINITY).unwrap();
+        assert!(round.remaining_m > 5.0, "round the wall: {round:?}");
+        assert!(m.path().iter().all(|p| (p.x - 2.05).abs() > 0.2 || p.y > 2.9), "{:?}", m.path());
+        // In the open nothing is closed, however narrow the sensor says it is.
+        let mut open = Memory::new(from, goal, 0.3, MemoryParams::default());
+        open.heading(from, |_| f64::INFINITY);
+        assert!(!open.close_gaps_ahead(from, 0.85, 0.5, |_, _| 0.0));
     }
 
     #[test]
