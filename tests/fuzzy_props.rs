@@ -332,3 +332,40 @@ proptest! {
         }
     }
 }
+
+/// The benchmark engines (`benches/fixtures/`), at the resolutions they are measured at,
+/// agree with the naive evaluation over a grid of inputs.
+#[test]
+fn benchmark_engines_agree_with_reference() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    for name in ["narrow", "wide", "crowded"] {
+        let text = std::fs::read_to_string(format!("{root}/benches/fixtures/{name}.fll")).unwrap();
+        let mut e = fll::import(&text, name).unwrap();
+        for resolution in [100, 200, 500] {
+            for out in &mut e.outputs {
+                out.defuzzifier = Some(Defuzzifier::Centroid { resolution });
+            }
+            let mut fast = Inference::new(&e).unwrap();
+            let mut naive = Reference::new(&e).unwrap();
+            let (a, b) = (&e.inputs[0], &e.inputs[1]);
+            for i in 0..=60 {
+                for j in 0..=60 {
+                    let input = [
+                        a.minimum + (a.maximum - a.minimum) * i as f64 / 60.0,
+                        b.minimum + (b.maximum - b.minimum) * j as f64 / 60.0,
+                    ];
+                    fast.set_inputs(&input);
+                    fast.process();
+                    let expected = naive.process(&input).to_vec();
+                    for (o, (x, y)) in fast.outputs().iter().zip(&expected).enumerate() {
+                        let scale = e.outputs[o].maximum - e.outputs[o].minimum;
+                        assert!(
+                            same(*x, *y, 1e-12 * scale),
+                            "{name} at {resolution}, {input:?}, output {o}: {x} vs {y}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

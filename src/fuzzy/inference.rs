@@ -1,13 +1,28 @@
 //! Running an engine: the fast, compiled inference used everywhere in strider (seed 000 §3.1).
 //!
 //! [`Inference::new`] validates an [`Engine`] and compiles it: propositions used by several
-//! rules are evaluated once, antecedents become small postfix programs, and every output
-//! term of an integral output is pre-sampled at the defuzzifier's sample points together with
-//! the index span where it is non-zero. With maximum aggregation, activations of the same
-//! output term are grouped first (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any
-//! T-norm), so each output term is folded in once, and only over its support. Those shortcuts
-//! hold for degrees in `[0, 1]`; a step where some degree leaves it (weights above 1,
-//! unbounded sums) is folded activation by activation in firing order over every sample.
+//! rules are evaluated once (plain triangles and trapezoids inline, without the general
+//! membership dispatch), an antecedent that is one proposition or a chain of one connective
+//! (`a and b and c`) is folded left to right without a stack, others become small postfix
+//! programs, and every output term of an integral output is pre-sampled at the defuzzifier's
+//! sample points together with the index span where it is non-zero. With maximum
+//! aggregation, activations of the same output term are grouped first
+//! (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any T-norm; each conclusion knows its
+//! `(term, implication)` slot, so grouping is a lookup), so each output term is folded in
+//! once, and only over its support. Those shortcuts hold for degrees in `[0, 1]`; a step where
+//! some degree leaves it (weights above 1, unbounded sums) is folded activation by activation
+//! in firing order over every sample.
+//!
+//! The centroid under maximum aggregation with minimum or product implication — the common
+//! Mamdani and Larsen engines — has two paths when every sample of the output's terms is finite
+//! and non-negative (so `max` folds the implied terms in any order to the same aggregate):
+//! terms that overlap little are folded one at a time over their own support, the widest
+//! written first, and the last fold also sums area and moment, so only the samples outside
+//! that term are read again; terms that overlap heavily (their supports add up to at least
+//! twice the span per four terms) are read four at a time over the whole span (zero outside
+//! their support), one pass per four terms, then summed. A single term is summed straight from
+//! its samples. Sums run in four independent lanes the compiler keeps in vector registers, so
+//! they differ from the sequential sum only by rounding.
 //!
 //! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
 //! its degree is positive (NaN never fires); an output on which no rule fired, or whose
@@ -661,32 +676,23 @@ fn output_proposition(prop: &Prop, var: &OutputVariable, out: &CompiledOutput) -
 /// left-to-right chain of one connective (`L L op L op …`); its propositions go to `chains`.
 fn chain(program: &[Op], chains: &mut Vec<u32>) -> Condition {
     let start = chains.len();
-    let mut and = None;
-    for (k, op) in program.iter().enumerate() {
-        let ok = match (*op, k) {
-            (Op::Load(p), 0) => {
-                chains.push(p);
-                true
-            }
-            (Op::Load(p), k) if k % 2 == 1 => {
-                chains.push(p);
-                true
-            }
-            (Op::And | Op::Or, k) if k % 2 == 0 => {
-                let this = matches!(op, Op::And);
-                and.get_or_insert(this);
-                and == Some(this)
-            }
-            _ => false,
-        };
-        if !ok {
-            chains.truncate(start);
-            return Condition::Program;
-        }
-    }
-    if program.len() % 2 == 0 {
-        chains.truncate(start);
+    let Some((&Op::Load(first), rest)) = program.split_first() else {
         return Condition::Program;
+    };
+    chains.push(first);
+    let mut and = None;
+    for pair in rest.chunks(2) {
+        match *pair {
+            [Op::Load(p), op @ (Op::And | Op::Or)]
+                if *and.get_or_insert(matches!(op, Op::And)) == matches!(op, Op::And) =>
+            {
+                chains.push(p);
+            }
+            _ => {
+                chains.truncate(start);
+                return Condition::Program;
+            }
+        }
     }
     Condition::Chain { props: start..chains.len(), and: and.unwrap_or(true) }
 }
