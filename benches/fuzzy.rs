@@ -1,10 +1,15 @@
 //! Fuzzy inference throughput (issue bar: ≥ 1,000,000 inferences per second on one core for
-//! the 2-input / 2-output, 15-rule Mamdani engine with centroid at resolution 200, which is
-//! strider's default navigation engine `scripts/simple_nav.rhai`).
+//! 2-input / 2-output, 15-rule Mamdani engines with centroid at resolution 200). Engines:
+//! strider's default navigation engine `scripts/simple_nav.rhai`, and the FLL engines of
+//! `benches/fixtures/`: `narrow` (narrow terms, few rules fire), `wide` (wide, heavily
+//! overlapping terms) and `crowded` (most of the 15 rules fire, each on a term of its own),
+//! each at resolutions 100, 200 and 500. Time per iteration is time per inference
+//! (1 µs = 1,000,000 inferences per second). `benches/peers/fuzzylite.sh` runs the same
+//! engines through fuzzylite (C++) and strider side by side.
 
 use divan::{Bencher, black_box};
 use strider::fuzzy::reference::Reference;
-use strider::fuzzy::{Engine, Inference};
+use strider::fuzzy::{Defuzzifier, Engine, Inference, fll};
 use strider::script::{Limits, ScriptLog, fuzzy_api};
 
 fn main() {
@@ -18,18 +23,35 @@ fn nav_engine() -> Engine {
         .remove(0)
 }
 
-fn inputs(n: usize) -> Vec<[f64; 2]> {
+/// The engine called `name` with every centroid at `resolution`.
+fn engine(name: &str, resolution: usize) -> Engine {
+    let mut e = match name {
+        "nav" => nav_engine(),
+        "narrow" => fll::import(include_str!("fixtures/narrow.fll"), "narrow.fll").expect("narrow.fll"),
+        "wide" => fll::import(include_str!("fixtures/wide.fll"), "wide.fll").expect("wide.fll"),
+        "crowded" => fll::import(include_str!("fixtures/crowded.fll"), "crowded.fll").expect("crowded.fll"),
+        _ => panic!("no engine {name}"),
+    };
+    for out in &mut e.outputs {
+        out.defuzzifier = Some(Defuzzifier::Centroid { resolution });
+    }
+    e
+}
+
+/// 1024 input rows spread uniformly over the inputs' ranges.
+fn inputs(e: &Engine) -> Vec<Vec<f64>> {
     let mut rng = strider::rng::stream(1, 0, 0);
-    (0..n)
-        .map(|_| [strider::rng::uniform(&mut rng, 0.0, 5.0), strider::rng::uniform(&mut rng, -180.0, 180.0)])
+    (0..1024)
+        .map(|_| e.inputs.iter().map(|v| strider::rng::uniform(&mut rng, v.minimum, v.maximum)).collect())
         .collect()
 }
 
-/// One compiled inference (time per iteration; 1 µs = 1,000,000 inferences per second).
-#[divan::bench]
-fn compiled_nav_inference(bencher: Bencher) {
-    let mut inf = Inference::new(&nav_engine()).expect("valid engine");
-    let xs = inputs(1024);
+/// One compiled inference of an engine at a resolution.
+#[divan::bench(args = ["nav", "narrow", "wide", "crowded"], consts = [100, 200, 500])]
+fn compiled<const RESOLUTION: usize>(bencher: Bencher, name: &str) {
+    let e = engine(name, RESOLUTION);
+    let mut inf = Inference::new(&e).expect("valid engine");
+    let xs = inputs(&e);
     let mut k = 0;
     bencher.bench_local(|| {
         k = (k + 1) & 1023;
@@ -39,11 +61,12 @@ fn compiled_nav_inference(bencher: Bencher) {
     });
 }
 
-/// The naive reference evaluation of the same engine, for comparison.
+/// The naive reference evaluation of the navigation engine, for comparison.
 #[divan::bench]
 fn reference_nav_inference(bencher: Bencher) {
-    let mut naive = Reference::new(&nav_engine()).expect("valid engine");
-    let xs = inputs(1024);
+    let e = engine("nav", 200);
+    let mut naive = Reference::new(&e).expect("valid engine");
+    let xs = inputs(&e);
     let mut k = 0;
     bencher.bench_local(|| {
         k = (k + 1) & 1023;

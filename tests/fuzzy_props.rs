@@ -1,6 +1,8 @@
 //! Property tests of the fuzzy engine over randomly generated engines: the compiled inference
-//! agrees with the naive reference, outputs stay in range, monotone rule bases give monotone
-//! outputs, and FLL export/import preserves behaviour.
+//! agrees with the naive reference (on engines of every family, and on Mamdani engines of
+//! triangles and trapezoids of every width, the shape the compiled centroid is tuned for),
+//! outputs stay in range, monotone rule bases give monotone outputs, and FLL export/import
+//! preserves behaviour.
 
 use proptest::prelude::*;
 use rand_chacha::ChaCha8Rng;
@@ -118,6 +120,91 @@ fn random_engine(seed: u64) -> Engine {
     e
 }
 
+/// A triangle or trapezoid on `[lo, hi]` whose width is `width` times the range (narrow terms
+/// for small `width`, wide ones reaching past the range for large), sometimes a shoulder or
+/// below full height.
+fn sized_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64, width: f64) -> Term {
+    let span = hi - lo;
+    let w = span * width * uniform(rng, 0.5, 1.5);
+    let centre = uniform(rng, lo - 0.1 * span, hi + 0.1 * span);
+    let mut xs: Vec<f64> = (0..4).map(|_| centre + w * uniform(rng, -0.5, 0.5)).collect();
+    xs.sort_by(f64::total_cmp);
+    let height = if unit(rng) < 0.15 { uniform(rng, 0.2, 1.0) } else { 1.0 };
+    match (unit(rng) * 8.0) as usize {
+        0 => Term::Trapezoid { a: f64::NEG_INFINITY, b: xs[1], c: xs[2], d: xs[3], height },
+        1 => Term::Trapezoid { a: xs[0], b: xs[1], c: xs[2], d: f64::INFINITY, height },
+        2 => Term::Triangle { a: xs[0], b: xs[0], c: xs[3], height },
+        3..=5 => Term::Triangle { a: xs[0], b: xs[1], c: xs[3], height },
+        _ => Term::Trapezoid { a: xs[0], b: xs[1], c: xs[2], d: xs[3], height },
+    }
+}
+
+/// A random 2-input / 2-output Mamdani engine of 15 rules over triangles and trapezoids:
+/// term widths from narrow to wider than the range, minimum or product implication, maximum
+/// aggregation, centroid at a random resolution. Most rules are conjunctions of two inputs;
+/// some use `or`, hedges, nested antecedents, weights or conclude several terms.
+fn mamdani_engine(seed: u64) -> Engine {
+    let rng = &mut stream(seed, 1, 0);
+    let mut e = Engine::new("mamdani");
+    let width = pick(rng, &[0.02, 0.08, 0.2, 0.5, 0.9, 1.5]);
+    let ranges = [(-5.0, 5.0), (0.0, 100.0)];
+    for (i, (lo, hi)) in ranges.into_iter().enumerate() {
+        let mut v = InputVariable::new(&format!("in{i}"), lo, hi);
+        for t in 0..2 + (unit(rng) * 5.0) as usize {
+            v = v.term(&format!("t{t}"), sized_term(rng, lo, hi, width));
+        }
+        e.inputs.push(v);
+    }
+    let resolution = pick(rng, &[1, 3, 10, 37, 100, 200, 201, 500, 1000]);
+    for (o, (lo, hi)) in [(0.0, 10.0), (-300.0, 300.0)].into_iter().enumerate() {
+        let mut v = OutputVariable::new(&format!("out{o}"), lo, hi);
+        for t in 0..2 + (unit(rng) * 15.0) as usize {
+            let w = width * uniform(rng, 0.5, 2.0);
+            v = v.term(&format!("t{t}"), sized_term(rng, lo, hi, w));
+        }
+        v.defuzzifier = Some(Defuzzifier::Centroid { resolution });
+        v.aggregation = Some(SNorm::Maximum);
+        v.default_value = f64::NAN;
+        e.outputs.push(v);
+    }
+    let mut block = RuleBlock::mamdani("rules");
+    block.implication = Some(if unit(rng) < 0.7 { TNorm::Minimum } else { TNorm::AlgebraicProduct });
+    e.rule_blocks.push(block);
+    let prop = |rng: &mut ChaCha8Rng, e: &Engine, i: usize| {
+        let t = (unit(rng) * e.inputs[i].terms.len() as f64) as usize;
+        let hedge = if unit(rng) < 0.05 { pick(rng, &["very ", "not ", "somewhat "]) } else { "" };
+        format!("in{i} is {hedge}t{t}")
+    };
+    let conclusion = |rng: &mut ChaCha8Rng, e: &Engine, o: usize| {
+        let t = (unit(rng) * e.outputs[o].terms.len() as f64) as usize;
+        format!("out{o} is t{t}")
+    };
+    for _ in 0..15 {
+        let (a, b) = (prop(rng, &e, 0), prop(rng, &e, 1));
+        let antecedent = match (unit(rng) * 10.0) as usize {
+            0 => format!("{a} or {b}"),
+            1 => {
+                let c = prop(rng, &e, 0);
+                format!("{a} and ({b} or {c})")
+            }
+            2 => a,
+            _ => format!("{a} and {b}"),
+        };
+        let (c0, c1) = (conclusion(rng, &e, 0), conclusion(rng, &e, 1));
+        let mut text = format!("if {antecedent} then {c0} and {c1}");
+        if unit(rng) < 0.1 {
+            let extra = conclusion(rng, &e, 1);
+            text.push_str(&format!(" and {extra}"));
+        }
+        if unit(rng) < 0.1 {
+            let w = uniform(rng, 0.1, 1.0);
+            text.push_str(&format!(" with {w}"));
+        }
+        e.add_rule(0, &text).unwrap_or_else(|err| panic!("{text}: {err}"));
+    }
+    e
+}
+
 fn same(a: f64, b: f64, tol: f64) -> bool {
     (a.is_nan() && b.is_nan()) || a == b || (a - b).abs() <= tol
 }
@@ -138,6 +225,29 @@ proptest! {
             let expected = naive.process(&input).to_vec();
             for (o, (a, b)) in fast.outputs().iter().zip(&expected).enumerate() {
                 prop_assert!(same(*a, *b, 1e-9), "output {o}: {a} vs {b}\n{}", fll::export(&e));
+            }
+        }
+    }
+
+    /// The compiled centroid (terms pre-sampled over their support, merged per term, folded
+    /// one at a time or four at a time) agrees with the naive evaluation on Mamdani engines of
+    /// triangles and trapezoids of every width and resolution.
+    #[test]
+    fn compiled_agrees_with_reference_on_mamdani_engines(
+        seed in any::<u64>(),
+        us in prop::collection::vec(-0.1f64..1.1, 16..32),
+    ) {
+        let e = mamdani_engine(seed);
+        let mut fast = Inference::new(&e).unwrap();
+        let mut naive = Reference::new(&e).unwrap();
+        for u in us.chunks_exact(2) {
+            let input = [-5.0 + 10.0 * u[0], 100.0 * u[1]];
+            fast.set_inputs(&input);
+            fast.process();
+            let expected = naive.process(&input).to_vec();
+            for (o, (a, b)) in fast.outputs().iter().zip(&expected).enumerate() {
+                let scale = e.outputs[o].maximum - e.outputs[o].minimum;
+                prop_assert!(same(*a, *b, 1e-12 * scale), "output {o} at {input:?}: {a} vs {b}\n{}", fll::export(&e));
             }
         }
     }
@@ -219,6 +329,43 @@ proptest! {
         for h in Hedge::ALL {
             let y = h.apply(x);
             prop_assert!((0.0..=1.0).contains(&y), "{h:?}({x}) = {y}");
+        }
+    }
+}
+
+/// The benchmark engines (`benches/fixtures/`), at the resolutions they are measured at,
+/// agree with the naive evaluation over a grid of inputs.
+#[test]
+fn benchmark_engines_agree_with_reference() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    for name in ["narrow", "wide", "crowded"] {
+        let text = std::fs::read_to_string(format!("{root}/benches/fixtures/{name}.fll")).unwrap();
+        let mut e = fll::import(&text, name).unwrap();
+        for resolution in [100, 200, 500] {
+            for out in &mut e.outputs {
+                out.defuzzifier = Some(Defuzzifier::Centroid { resolution });
+            }
+            let mut fast = Inference::new(&e).unwrap();
+            let mut naive = Reference::new(&e).unwrap();
+            let (a, b) = (&e.inputs[0], &e.inputs[1]);
+            for i in 0..=60 {
+                for j in 0..=60 {
+                    let input = [
+                        a.minimum + (a.maximum - a.minimum) * i as f64 / 60.0,
+                        b.minimum + (b.maximum - b.minimum) * j as f64 / 60.0,
+                    ];
+                    fast.set_inputs(&input);
+                    fast.process();
+                    let expected = naive.process(&input).to_vec();
+                    for (o, (x, y)) in fast.outputs().iter().zip(&expected).enumerate() {
+                        let scale = e.outputs[o].maximum - e.outputs[o].minimum;
+                        assert!(
+                            same(*x, *y, 1e-12 * scale),
+                            "{name} at {resolution}, {input:?}, output {o}: {x} vs {y}"
+                        );
+                    }
+                }
+            }
         }
     }
 }

@@ -67,6 +67,11 @@ fn process_allocates_nothing() {
     let mut engines = vec![wide_sugeno()];
     let tipper = std::fs::read_to_string(format!("{root}/tests/fixtures/fuzzy/tipper.fll")).unwrap();
     engines.push(fll::import(&tipper, "tipper.fll").unwrap());
+    // The benchmark engines: narrow terms, wide overlapping terms, most rules firing at once.
+    for name in ["narrow", "wide", "crowded"] {
+        let text = std::fs::read_to_string(format!("{root}/benches/fixtures/{name}.fll")).unwrap();
+        engines.push(fll::import(&text, name).unwrap());
+    }
     for script in ["scripts/simple_nav.rhai", "scripts/nav.rhai"] {
         let text = std::fs::read_to_string(format!("{root}/{script}")).unwrap();
         engines.extend(fuzzy_api::load_engines(&text, script, Limits::default(), &ScriptLog::new()).unwrap());

@@ -1,13 +1,28 @@
 //! Running an engine: the fast, compiled inference used everywhere in strider (seed 000 §3.1).
 //!
 //! [`Inference::new`] validates an [`Engine`] and compiles it: propositions used by several
-//! rules are evaluated once, antecedents become small postfix programs, and every output
-//! term of an integral output is pre-sampled at the defuzzifier's sample points together with
-//! the index span where it is non-zero. With maximum aggregation, activations of the same
-//! output term are grouped first (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any
-//! T-norm), so each output term is folded in once, and only over its support. Those shortcuts
-//! hold for degrees in `[0, 1]`; a step where some degree leaves it (weights above 1,
-//! unbounded sums) is folded activation by activation in firing order over every sample.
+//! rules are evaluated once (plain triangles and trapezoids inline, without the general
+//! membership dispatch), an antecedent that is one proposition or a chain of one connective
+//! (`a and b and c`) is folded left to right without a stack, others become small postfix
+//! programs, and every output term of an integral output is pre-sampled at the defuzzifier's
+//! sample points together with the index span where it is non-zero. With maximum
+//! aggregation, activations of the same output term are grouped first
+//! (`max(T(d₁, μ), T(d₂, μ)) = T(max(d₁, d₂), μ)` for any T-norm; each conclusion knows its
+//! `(term, implication)` slot, so grouping is a lookup), so each output term is folded in
+//! once, and only over its support. Those shortcuts hold for degrees in `[0, 1]`; a step where
+//! some degree leaves it (weights above 1, unbounded sums) is folded activation by activation
+//! in firing order over every sample.
+//!
+//! The centroid under maximum aggregation with minimum or product implication — the common
+//! Mamdani and Larsen engines — has two paths when every sample of the output's terms is finite
+//! and non-negative (so `max` folds the implied terms in any order to the same aggregate):
+//! terms that overlap little are folded one at a time over their own support, the widest
+//! written first, and the last fold also sums area and moment, so only the samples outside
+//! that term are read again; terms that overlap heavily (their supports add up to at least
+//! twice the span per four terms) are read four at a time over the whole span (zero outside
+//! their support), one pass per four terms, then summed. A single term is summed straight from
+//! its samples. Sums run in four independent lanes the compiler keeps in vector registers, so
+//! they differ from the sequential sum only by rounding.
 //!
 //! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
 //! its degree is positive (NaN never fires); an output on which no rule fired, or whose
@@ -20,6 +35,7 @@ use super::defuzz::{self, Weighted};
 use super::engine::{Activation, Defuzzifier, Engine, EngineError, OutputVariable};
 use super::norm::{Hedge, SNorm, TNorm};
 use super::rule::{Antecedent, VariableRef};
+use super::term::Term;
 
 /// Propositions with activation degree at or below this do not fire.
 pub const FIRING_THRESHOLD: f64 = 0.0;
@@ -31,6 +47,16 @@ struct Prop {
     hedges: Vec<Hedge>,
 }
 
+/// How a proposition on an input is fuzzified.
+#[derive(Debug, Clone, Copy)]
+enum Fuzzify {
+    /// A plain triangle or trapezoid `(a, b, c, d, height)` of an enabled input, no hedges
+    /// (a triangle is the trapezoid with `b = c`: both formulas give the same values).
+    Trapezoid { input: usize, a: f64, b: f64, c: f64, d: f64, height: f64 },
+    /// Anything else: the term's own membership, then the hedges.
+    General,
+}
+
 #[derive(Debug, Clone, Copy)]
 enum Op {
     Load(u32),
@@ -38,9 +64,18 @@ enum Op {
     Or,
 }
 
+/// A rule's antecedent: most are one proposition or a left-to-right chain of one connective
+/// (`a and b and c`), folded without a stack; others run their postfix program.
+#[derive(Debug, Clone)]
+enum Condition {
+    Chain { props: std::ops::Range<usize>, and: bool },
+    Program,
+}
+
 #[derive(Debug, Clone)]
 struct CompiledRule {
     program: std::ops::Range<usize>,
+    antecedent: Condition,
     conclusions: std::ops::Range<usize>,
     weight: f64,
 }
@@ -50,6 +85,8 @@ struct CompiledConclusion {
     output: usize,
     term: usize,
     hedges: Vec<Hedge>,
+    /// Index of `(term, implication)` among the pairs concluded on this output.
+    slot: usize,
 }
 
 #[derive(Debug, Clone)]
@@ -76,6 +113,21 @@ struct CompiledOutput {
     /// Every activation in firing order, kept for the rare step where a degree leaves
     /// `[0, 1]` (weights, unbounded sums) and the shortcuts above no longer hold.
     raw: Vec<(usize, TNorm, f64)>,
+    /// Whether some degree in `raw` left `[0, 1]` this step.
+    unbounded: bool,
+    /// Integral output under maximum aggregation: activations of the same term and
+    /// implication are merged (see [`record_activation`]) through `slot_pos`.
+    grouped: bool,
+    /// Per `(term, implication)` slot, its entry in `activated` this step (`usize::MAX`: none).
+    slot_pos: Vec<usize>,
+    /// Sample points `xᵢ` of the defuzzifier.
+    xs: Vec<f64>,
+    /// Every sample of every term is finite and non-negative: `max` then folds the implied
+    /// terms in any order to the same aggregate, zero rows change nothing, and the centroid
+    /// takes the fast paths of [`CompiledOutput::centroid_of_maximum`].
+    plain: bool,
+    /// `resolution` zeros: the row of an absent term.
+    zeros: Vec<f64>,
 }
 
 /// A compiled engine with its state (input values, output values, rule activations).
@@ -86,8 +138,10 @@ pub struct Inference {
     outputs: Vec<f64>,
     previous: Vec<f64>,
     props: Vec<Prop>,
+    fuzzify: Vec<Fuzzify>,
     prop_values: Vec<f64>,
     program: Vec<Op>,
+    chains: Vec<u32>,
     rules: Vec<CompiledRule>,
     conclusions: Vec<CompiledConclusion>,
     blocks: Vec<CompiledBlock>,
@@ -251,18 +305,34 @@ impl Inference {
             }
         }
         let mut max_depth = 1;
+        let mut chains = Vec::new();
+        // Per output, the `(term, implication)` pairs its conclusions name.
+        let mut pairs: Vec<Vec<(usize, TNorm)>> = vec![Vec::new(); engine.outputs.len()];
         for block in &engine.rule_blocks {
             let start = rules.len();
+            let implication = block.implication.unwrap_or(TNorm::Minimum);
             for rule in &block.rules {
                 let p0 = program.len();
                 emit(&rule.antecedent, &mut props, &mut program);
                 let c0 = conclusions.len();
                 for c in &rule.consequent {
-                    conclusions.push(CompiledConclusion { output: c.variable, term: c.term, hedges: c.hedges.clone() });
+                    let known = &mut pairs[c.variable];
+                    let slot = known.iter().position(|&k| k == (c.term, implication)).unwrap_or_else(|| {
+                        known.push((c.term, implication));
+                        known.len() - 1
+                    });
+                    conclusions.push(CompiledConclusion {
+                        output: c.variable,
+                        term: c.term,
+                        hedges: c.hedges.clone(),
+                        slot,
+                    });
                 }
                 max_depth = max_depth.max(program.len() - p0);
+                let antecedent = chain(&program[p0..], &mut chains);
                 rules.push(CompiledRule {
                     program: p0..program.len(),
+                    antecedent,
                     conclusions: c0..conclusions.len(),
                     weight: rule.weight,
                 });
@@ -271,7 +341,7 @@ impl Inference {
                 enabled: block.enabled,
                 conjunction: block.conjunction.unwrap_or(TNorm::Minimum),
                 disjunction: block.disjunction.unwrap_or(SNorm::Maximum),
-                implication: block.implication.unwrap_or(TNorm::Minimum),
+                implication,
                 activation: block.activation,
                 rules: start..rules.len(),
             });
@@ -282,10 +352,12 @@ impl Inference {
         for c in &conclusions {
             per_output[c.output] += 1;
         }
-        for (out, n) in outs.iter_mut().zip(per_output) {
+        for ((out, n), known) in outs.iter_mut().zip(per_output).zip(&pairs) {
             out.raw.reserve(n);
             out.activated.reserve(n);
+            out.slot_pos = vec![usize::MAX; known.len()];
         }
+        let fuzzify = props.iter().map(|p| fuzzify_plan(engine, p)).collect();
         let n_rules = rules.len();
         Ok(Inference {
             engine: engine.clone(),
@@ -294,7 +366,9 @@ impl Inference {
             previous: vec![f64::NAN; engine.outputs.len()],
             prop_values: vec![0.0; props.len()],
             props,
+            fuzzify,
             program,
+            chains,
             rules,
             conclusions,
             blocks,
@@ -387,8 +461,10 @@ impl Inference {
             outputs,
             previous,
             props,
+            fuzzify,
             prop_values,
             program,
+            chains,
             rules,
             conclusions,
             blocks,
@@ -405,8 +481,10 @@ impl Inference {
                 *x = x.clamp(var.minimum, var.maximum);
             }
         }
-        for (value, prop) in prop_values.iter_mut().zip(props.iter()) {
-            if let VariableRef::Input(i) = prop.source {
+        for ((value, prop), plan) in prop_values.iter_mut().zip(props.iter()).zip(fuzzify.iter()) {
+            if let Fuzzify::Trapezoid { input, a, b, c, d, height } = *plan {
+                *value = trapezoid(inputs.get(input).copied().unwrap_or(f64::NAN), a, b, c, d, height);
+            } else if let VariableRef::Input(i) = prop.source {
                 let var = &engine.inputs[i];
                 *value = if !var.enabled {
                     0.0
@@ -424,6 +502,8 @@ impl Inference {
         for out in outs.iter_mut() {
             out.activated.clear();
             out.raw.clear();
+            out.unbounded = false;
+            out.slot_pos.fill(usize::MAX);
         }
         previous.copy_from_slice(outputs);
         // Rules, block by block. General activation fires rule by rule, so a rule reading an
@@ -442,37 +522,79 @@ impl Inference {
                         let new = (c.term, block.implication, apply_hedges(&c.hedges, degree));
                         let out = &mut outs[c.output];
                         out.raw.push(new);
-                        record_activation(&mut out.activated, var, new);
+                        let unit = (0.0..=1.0).contains(&new.2);
+                        out.unbounded |= !unit;
+                        if out.grouped && unit {
+                            // The first in-range entry of this term and implication, as in
+                            // `record_activation`, found through its slot.
+                            match out.slot_pos.get(c.slot).copied() {
+                                Some(k) if k < out.activated.len() => {
+                                    let e = &mut out.activated[k];
+                                    if new.2 > e.2 {
+                                        e.2 = new.2;
+                                    }
+                                }
+                                _ => {
+                                    if let Some(k) = out.slot_pos.get_mut(c.slot) {
+                                        *k = out.activated.len();
+                                    }
+                                    out.activated.push(new);
+                                }
+                            }
+                        } else if out.grouped {
+                            out.activated.push(new);
+                        } else {
+                            record_activation(&mut out.activated, var, new);
+                        }
                     }
+                }
+            };
+            let load = |p: u32, outs: &Vec<CompiledOutput>| -> f64 {
+                let p = p as usize;
+                match props[p].source {
+                    VariableRef::Input(_) => prop_values[p],
+                    VariableRef::Output(o) => output_proposition(&props[p], &engine.outputs[o], &outs[o]),
                 }
             };
             let general = block.activation == Activation::General;
             for i in range.clone() {
                 let rule = &rules[i];
-                stack.clear();
-                for op in &program[rule.program.clone()] {
-                    let v = match *op {
-                        Op::Load(p) => {
-                            let prop = &props[p as usize];
-                            match prop.source {
-                                VariableRef::Input(_) => prop_values[p as usize],
-                                VariableRef::Output(o) => output_proposition(prop, &engine.outputs[o], &outs[o]),
-                            }
+                let value = match &rule.antecedent {
+                    Condition::Chain { props: chain, and } => {
+                        let chain = &chains[chain.clone()];
+                        let mut acc = chain.first().map_or(f64::NAN, |&p| load(p, outs));
+                        for &p in chain.iter().skip(1) {
+                            let b = load(p, outs);
+                            acc = if *and {
+                                combine(acc, b, |a, b| block.conjunction.apply(a, b))
+                            } else {
+                                combine(acc, b, |a, b| block.disjunction.apply(a, b))
+                            };
                         }
-                        Op::And => {
-                            let b = stack.pop().unwrap_or(f64::NAN);
-                            let a = stack.pop().unwrap_or(f64::NAN);
-                            combine(a, b, |a, b| block.conjunction.apply(a, b))
+                        acc
+                    }
+                    Condition::Program => {
+                        stack.clear();
+                        for op in &program[rule.program.clone()] {
+                            let v = match *op {
+                                Op::Load(p) => load(p, outs),
+                                Op::And => {
+                                    let b = stack.pop().unwrap_or(f64::NAN);
+                                    let a = stack.pop().unwrap_or(f64::NAN);
+                                    combine(a, b, |a, b| block.conjunction.apply(a, b))
+                                }
+                                Op::Or => {
+                                    let b = stack.pop().unwrap_or(f64::NAN);
+                                    let a = stack.pop().unwrap_or(f64::NAN);
+                                    combine(a, b, |a, b| block.disjunction.apply(a, b))
+                                }
+                            };
+                            stack.push(v);
                         }
-                        Op::Or => {
-                            let b = stack.pop().unwrap_or(f64::NAN);
-                            let a = stack.pop().unwrap_or(f64::NAN);
-                            combine(a, b, |a, b| block.disjunction.apply(a, b))
-                        }
-                    };
-                    stack.push(v);
-                }
-                degrees[i] = rule.weight * stack.pop().unwrap_or(f64::NAN);
+                        stack.pop().unwrap_or(f64::NAN)
+                    }
+                };
+                degrees[i] = rule.weight * value;
                 if general {
                     fired[i] = degrees[i] > FIRING_THRESHOLD;
                     if fired[i] {
@@ -550,6 +672,66 @@ fn output_proposition(prop: &Prop, var: &OutputVariable, out: &CompiledOutput) -
     output_proposition_degree(&prop.hedges, prop.term, var, &out.activated)
 }
 
+/// The stack-free form of an antecedent's postfix `program` when it is one proposition or a
+/// left-to-right chain of one connective (`L L op L op …`); its propositions go to `chains`.
+fn chain(program: &[Op], chains: &mut Vec<u32>) -> Condition {
+    let start = chains.len();
+    let Some((&Op::Load(first), rest)) = program.split_first() else {
+        return Condition::Program;
+    };
+    chains.push(first);
+    let mut and = None;
+    for pair in rest.chunks(2) {
+        match *pair {
+            [Op::Load(p), op @ (Op::And | Op::Or)]
+                if *and.get_or_insert(matches!(op, Op::And)) == matches!(op, Op::And) =>
+            {
+                chains.push(p);
+            }
+            _ => {
+                chains.truncate(start);
+                return Condition::Program;
+            }
+        }
+    }
+    Condition::Chain { props: start..chains.len(), and: and.unwrap_or(true) }
+}
+
+/// How proposition `prop` is fuzzified (see [`Fuzzify`]).
+fn fuzzify_plan(engine: &Engine, prop: &Prop) -> Fuzzify {
+    let (VariableRef::Input(i), Some(t), true) = (prop.source, prop.term, prop.hedges.is_empty()) else {
+        return Fuzzify::General;
+    };
+    let var = &engine.inputs[i];
+    if !var.enabled {
+        return Fuzzify::General;
+    }
+    match var.terms[t].term {
+        Term::Triangle { a, b, c, height } => Fuzzify::Trapezoid { input: i, a, b, c: b, d: c, height },
+        Term::Trapezoid { a, b, c, d, height } => Fuzzify::Trapezoid { input: i, a, b, c, d, height },
+        _ => Fuzzify::General,
+    }
+}
+
+/// Membership of `x` in the trapezoid `(a, b, c, d)` times `height`, with the formulas of
+/// [`Term::membership`] for triangles and trapezoids (infinite `a` or `d` make shoulders).
+#[inline]
+fn trapezoid(x: f64, a: f64, b: f64, c: f64, d: f64, height: f64) -> f64 {
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    let y = if x < a || x > d {
+        0.0
+    } else if (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c) {
+        1.0
+    } else if x < b {
+        (x - a) / (b - a)
+    } else {
+        (d - x) / (d - c)
+    };
+    height * y
+}
+
 fn compile_output(var: &OutputVariable) -> CompiledOutput {
     let resolution = var.defuzzifier.and_then(|d| d.resolution()).unwrap_or(0);
     let mut samples = Vec::with_capacity(resolution * var.terms.len());
@@ -565,26 +747,34 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
         support.push((lo, hi));
     }
     CompiledOutput {
-        samples,
         support,
         resolution,
         mu: vec![0.0; resolution],
         activated: Vec::with_capacity(var.terms.len()),
         raw: Vec::new(),
+        unbounded: false,
+        grouped: resolution > 0 && var.aggregation == Some(SNorm::Maximum),
+        slot_pos: Vec::new(),
+        xs: (0..resolution).map(|i| defuzz::sample_x(var.minimum, var.maximum, resolution, i)).collect(),
+        plain: samples.iter().all(|s| s.is_finite() && *s >= 0.0),
+        zeros: vec![0.0; resolution],
+        samples,
     }
 }
 
 impl CompiledOutput {
     fn aggregate_and_defuzzify(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
-        if self.raw.iter().any(|a| !(0.0..=1.0).contains(&a.2)) {
+        if self.unbounded {
             return self.aggregate_in_firing_order(d, var);
         }
         let n = self.resolution;
         let (mut lo, mut hi) = (n, 0);
         for a in &self.activated {
             let (l, h) = self.support[a.0];
-            lo = lo.min(l);
-            hi = hi.max(h);
+            if l < h {
+                lo = lo.min(l);
+                hi = hi.max(h);
+            }
         }
         if lo >= hi {
             // Every activated term is zero at every sample: no area.
@@ -595,30 +785,29 @@ impl CompiledOutput {
                 defuzz::integral(d, var.minimum, var.maximum, &self.mu)
             };
         }
+        let aggregation = var.aggregation.unwrap_or(SNorm::Maximum);
+        if self.plain && matches!(d, Defuzzifier::Centroid { .. }) && aggregation == SNorm::Maximum {
+            let same = |imp: TNorm| self.activated.iter().all(|a| a.1 == imp);
+            if same(TNorm::Minimum) {
+                return self.centroid_of_maximum(lo, hi, |d, s| if d < s { d } else { s });
+            }
+            if same(TNorm::AlgebraicProduct) {
+                return self.centroid_of_maximum(lo, hi, |d, s| d * s);
+            }
+        }
         let whole = !matches!(d, Defuzzifier::Centroid { .. });
         if whole {
             self.mu.fill(0.0);
         } else {
             self.mu[lo..hi].fill(0.0);
         }
-        let aggregation = var.aggregation.unwrap_or(SNorm::Maximum);
         for &(term, implication, d) in &self.activated {
             let (l, h) = self.support[term];
             let row = &self.samples[term * n + l..term * n + h];
             let mu = &mut self.mu[l..h];
             match (implication, aggregation) {
-                (TNorm::Minimum, SNorm::Maximum) => {
-                    for (m, &s) in mu.iter_mut().zip(row) {
-                        let v = if d < s { d } else { s };
-                        *m = if *m > v { *m } else { v };
-                    }
-                }
-                (TNorm::AlgebraicProduct, SNorm::Maximum) => {
-                    for (m, &s) in mu.iter_mut().zip(row) {
-                        let v = d * s;
-                        *m = if *m > v { *m } else { v };
-                    }
-                }
+                (TNorm::Minimum, SNorm::Maximum) => max_into(mu, row, d, |d, s| if d < s { d } else { s }),
+                (TNorm::AlgebraicProduct, SNorm::Maximum) => max_into(mu, row, d, |d, s| d * s),
                 (imp, agg) => {
                     for (m, &s) in mu.iter_mut().zip(row) {
                         *m = agg.apply(*m, imp.apply(d, s));
@@ -629,9 +818,194 @@ impl CompiledOutput {
         if whole {
             defuzz::integral(d, var.minimum, var.maximum, &self.mu)
         } else {
-            centroid_span(var.minimum, var.maximum, n, &self.mu[lo..hi], lo)
+            let (area, moment) = sums(&self.mu[lo..hi], &self.xs[lo..hi]);
+            moment / area
         }
     }
+
+    /// Centroid of the maximum of the activated terms, each implied by `imp(degree, sample)`
+    /// (the same implication for all), over samples `lo..hi`, the union of their supports.
+    /// The widest term is written first, the others folded in with `max`, and the last fold
+    /// (of the next widest) also sums area and moment, so the aggregate is traversed once more
+    /// only outside that term's support. A single term is summed straight from its samples.
+    ///
+    /// When the terms overlap so much that reading every term over the whole span costs less,
+    /// the terms are instead taken four at a time over `lo..hi` (zero outside their support),
+    /// one pass per four terms, the last one summing: see [`CompiledOutput::centroid_dense`].
+    fn centroid_of_maximum(&mut self, lo: usize, hi: usize, imp: impl Fn(f64, f64) -> f64 + Copy) -> f64 {
+        let n = self.resolution;
+        let count = self.activated.len();
+        let span = |t: usize| self.support[t].1 - self.support[t].0;
+        // Memory traffic per sample: about three accesses per term and sample of its support
+        // one term at a time, six per sample of the span per four terms at once.
+        let covered: usize = self.activated.iter().map(|a| span(a.0)).sum();
+        if 2 * count.div_ceil(4) * (hi - lo) <= covered {
+            return self.centroid_dense(lo, hi, imp);
+        }
+        let Some(widest) = (0..count).max_by_key(|&k| span(self.activated[k].0)) else {
+            return f64::NAN;
+        };
+        let row = |t: usize| {
+            let (l, h) = self.support[t];
+            (l, h, &self.samples[t * n + l..t * n + h])
+        };
+        // The next widest is folded last; with no other term of non-empty support, the
+        // widest alone is the aggregate.
+        let last = (0..count).filter(|&k| k != widest).max_by_key(|&k| span(self.activated[k].0));
+        let (term, _, d) = self.activated[widest];
+        let (l, h, first) = row(term);
+        let Some(last) = last.filter(|&k| span(self.activated[k].0) > 0) else {
+            let (area, moment) = implied_sums(first, &self.xs[l..h], d, imp);
+            return moment / area;
+        };
+        self.mu[lo..l].fill(0.0);
+        for (m, &s) in self.mu[l..h].iter_mut().zip(first) {
+            *m = imp(d, s);
+        }
+        self.mu[h..hi].fill(0.0);
+        for k in (0..count).filter(|&k| k != widest && k != last) {
+            let (term, _, d) = self.activated[k];
+            let (l, h, r) = row(term);
+            max_into(&mut self.mu[l..h], r, d, imp);
+        }
+        let (term, _, d) = self.activated[last];
+        let (l, h, r) = row(term);
+        let (a0, m0) = sums(&self.mu[lo..l], &self.xs[lo..l]);
+        let (a1, m1) = max_sums(&self.mu[l..h], r, &self.xs[l..h], d, imp);
+        let (a2, m2) = sums(&self.mu[h..hi], &self.xs[h..hi]);
+        (m0 + m1 + m2) / (a0 + a1 + a2)
+    }
+    /// Centroid of the maximum of the implied activated terms over `lo..hi`, four terms per
+    /// pass over the span (absent ones as zero rows at degree 0).
+    fn centroid_dense(&mut self, lo: usize, hi: usize, imp: impl Fn(f64, f64) -> f64 + Copy) -> f64 {
+        let CompiledOutput { samples, resolution: n, mu, activated, xs, zeros, .. } = self;
+        let n = *n;
+        let span = hi - lo;
+        let count = activated.len();
+        let xs = &xs[lo..hi];
+        let group = |g: usize| {
+            let mut rows: [&[f64]; 4] = [&zeros[..span]; 4];
+            let mut degrees = [0.0; 4];
+            for j in 0..4 {
+                if let Some(&(t, _, d)) = activated.get(4 * g + j) {
+                    rows[j] = &samples[t * n + lo..t * n + hi];
+                    degrees[j] = d;
+                }
+            }
+            (rows, degrees)
+        };
+        let mu = &mut mu[lo..hi];
+        for g in 0..count.div_ceil(4) {
+            let (rows, degrees) = group(g);
+            if g == 0 {
+                max4_into::<true>(mu, rows, degrees, imp);
+            } else {
+                max4_into::<false>(mu, rows, degrees, imp);
+            }
+        }
+        let (area, moment) = sums(mu, xs);
+        moment / area
+    }
+}
+
+/// `mu[i] = max(mu[i], imp(d₀, r₀[i]), …, imp(d₃, r₃[i]))`, or without `mu[i]` when `FIRST`.
+#[inline(always)]
+fn max4_into<const FIRST: bool>(mu: &mut [f64], rows: [&[f64]; 4], d: [f64; 4], imp: impl Fn(f64, f64) -> f64) {
+    let n = mu.len().min(rows[0].len()).min(rows[1].len()).min(rows[2].len()).min(rows[3].len());
+    let mu = &mut mu[..n];
+    let [r0, r1, r2, r3] = rows.map(|r| &r[..n]);
+    for ((((m, &s0), &s1), &s2), &s3) in mu.iter_mut().zip(r0).zip(r1).zip(r2).zip(r3) {
+        let y = max4(imp(d[0], s0), imp(d[1], s1), imp(d[2], s2), imp(d[3], s3));
+        *m = if FIRST || y > *m { y } else { *m };
+    }
+}
+
+#[inline(always)]
+fn max4(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    let ab = if a > b { a } else { b };
+    let cd = if c > d { c } else { d };
+    if ab > cd { ab } else { cd }
+}
+
+/// Lanes of the sums below: independent partial sums the compiler keeps in vector registers.
+const LANES: usize = 4;
+
+/// `mu[i] = max(mu[i], imp(d, row[i]))`.
+#[inline(always)]
+fn max_into(mu: &mut [f64], row: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) {
+    for (m, &s) in mu.iter_mut().zip(row) {
+        let v = imp(d, s);
+        *m = if *m > v { *m } else { v };
+    }
+}
+
+/// `(Σ yᵢ, Σ yᵢ·xᵢ)`.
+#[inline(always)]
+fn sums(ys: &[f64], xs: &[f64]) -> (f64, f64) {
+    lane_sums(ys, xs, |y| y)
+}
+
+/// `(Σ yᵢ, Σ yᵢ·xᵢ)` with `yᵢ = imp(d, sᵢ)`.
+#[inline(always)]
+fn implied_sums(row: &[f64], xs: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) -> (f64, f64) {
+    lane_sums(row, xs, |s| imp(d, s))
+}
+
+/// `(Σ yᵢ, Σ yᵢ·xᵢ)` with `yᵢ = max(muᵢ, imp(d, sᵢ))`.
+#[inline(always)]
+fn max_sums(mu: &[f64], row: &[f64], xs: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) -> (f64, f64) {
+    let n = mu.len().min(row.len()).min(xs.len());
+    let (mu, row, xs) = (&mu[..n], &row[..n], &xs[..n]);
+    let (mc, mt) = mu.as_chunks::<LANES>();
+    let (rc, rt) = row.as_chunks::<LANES>();
+    let (xc, xt) = xs.as_chunks::<LANES>();
+    let mut area = [0.0; LANES];
+    let mut moment = [0.0; LANES];
+    for ((m, r), x) in mc.iter().zip(rc).zip(xc) {
+        for j in 0..LANES {
+            let v = imp(d, r[j]);
+            let y = if m[j] > v { m[j] } else { v };
+            area[j] += y;
+            moment[j] += y * x[j];
+        }
+    }
+    let (mut a, mut s) = fold(area, moment);
+    for ((&m, &r), &x) in mt.iter().zip(rt).zip(xt) {
+        let v = imp(d, r);
+        let y = if m > v { m } else { v };
+        a += y;
+        s += y * x;
+    }
+    (a, s)
+}
+
+#[inline(always)]
+fn lane_sums(ys: &[f64], xs: &[f64], f: impl Fn(f64) -> f64) -> (f64, f64) {
+    let n = ys.len().min(xs.len());
+    let (ys, xs) = (&ys[..n], &xs[..n]);
+    let (yc, yt) = ys.as_chunks::<LANES>();
+    let (xc, xt) = xs.as_chunks::<LANES>();
+    let mut area = [0.0; LANES];
+    let mut moment = [0.0; LANES];
+    for (y, x) in yc.iter().zip(xc) {
+        for j in 0..LANES {
+            let v = f(y[j]);
+            area[j] += v;
+            moment[j] += v * x[j];
+        }
+    }
+    let (mut a, mut s) = fold(area, moment);
+    for (&y, &x) in yt.iter().zip(xt) {
+        let v = f(y);
+        a += v;
+        s += v * x;
+    }
+    (a, s)
+}
+
+#[inline(always)]
+fn fold(area: [f64; LANES], moment: [f64; LANES]) -> (f64, f64) {
+    ((area[0] + area[1]) + (area[2] + area[3]), (moment[0] + moment[1]) + (moment[2] + moment[3]))
 }
 
 impl CompiledOutput {
@@ -652,16 +1026,4 @@ impl CompiledOutput {
         }
         defuzz::integral(d, var.minimum, var.maximum, &self.mu)
     }
-}
-
-/// Centroid over a span of samples starting at index `offset` (samples outside are zero).
-fn centroid_span(minimum: f64, maximum: f64, n: usize, mu: &[f64], offset: usize) -> f64 {
-    let dx = (maximum - minimum) / n as f64;
-    let (mut area, mut moment) = (0.0, 0.0);
-    for (k, &y) in mu.iter().enumerate() {
-        let x = minimum + ((offset + k) as f64 + 0.5) * dx;
-        area += y;
-        moment += y * x;
-    }
-    moment / area
 }
