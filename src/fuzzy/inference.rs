@@ -720,16 +720,7 @@ fn trapezoid(x: f64, a: f64, b: f64, c: f64, d: f64, height: f64) -> f64 {
     if x.is_nan() {
         return f64::NAN;
     }
-    let y = if x < a || x > d {
-        0.0
-    } else if (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c) {
-        1.0
-    } else if x < b {
-        (x - a) / (b - a)
-    } else {
-        (d - x) / (d - c)
-    };
-    height * y
+    height * super::term::trapezoid(x, a, b, c, d)
 }
 
 fn compile_output(var: &OutputVariable) -> CompiledOutput {

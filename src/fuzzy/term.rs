@@ -376,18 +376,7 @@ impl Term {
                 };
                 (y, height)
             }
-            Term::Trapezoid { a, b, c, d, height } => {
-                let y = if x < a || x > d {
-                    0.0
-                } else if (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c) {
-                    1.0
-                } else if x < b {
-                    (x - a) / (b - a)
-                } else {
-                    (d - x) / (d - c)
-                };
-                (y, height)
-            }
+            Term::Trapezoid { a, b, c, d, height } => (trapezoid(x, a, b, c, d), height),
             Term::Rectangle { start, end, height } => (if start <= x && x <= end { 1.0 } else { 0.0 }, height),
             Term::Ramp { start, end, height } => {
                 let y = if start < end {
@@ -513,6 +502,20 @@ fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
         return y1;
     }
     y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+}
+
+/// Membership of `x` (not NaN) in the trapezoid `(a, b, c, d)`: 0 outside `[a, d]`, 1 on
+/// `[b, c]` (and on the open side of a shoulder, `a` = −∞ or `d` = +∞), linear between.
+pub(crate) fn trapezoid(x: f64, a: f64, b: f64, c: f64, d: f64) -> f64 {
+    if x < a || x > d {
+        0.0
+    } else if (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c) {
+        1.0
+    } else if x < b {
+        (x - a) / (b - a)
+    } else {
+        (d - x) / (d - c)
+    }
 }
 
 #[cfg(test)]
