@@ -15,6 +15,11 @@
 //! way twice and, in a finite world, reaches any goal it can reach). The planner's goal
 //! seeking then steers toward a waypoint on that path instead of straight at the goal.
 //!
+//! The memory is the disc's: a body that needs more room (the character keeps a margin) may
+//! be held up where the grid shows a way. An agent held up in one place for long has its range
+//! sensor measure the way across the path just ahead, and gaps narrower than its body passes
+//! are remembered as obstacles too ([`Memory::close_gaps_ahead`]), so it plans round them.
+//!
 //! The path is kept between steps and planned again only when a newly remembered obstacle
 //! touches it or the agent strays from it; a new plan replaces the path only when it is
 //! clearly shorter, so two ways round an obstacle of about the same length do not take turns.
