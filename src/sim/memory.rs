@@ -81,7 +81,7 @@ const BANDS: u8 = 3;
 /// (standing close to a wall, the agent may still aim along it).
 const STRIDE_M: f64 = 0.25;
 
-/// [`Memory::close_ahead`] looks this far along the path and no nearer, metres.
+/// [`Memory::close_gaps_ahead`] looks this far along the path and no nearer, metres.
 const AHEAD_MAX_M: f64 = 1.5;
 
 /// See [`AHEAD_MAX_M`].
@@ -130,8 +130,6 @@ pub struct Memory {
     stale: bool,
     /// Plans made so far.
     pub plans: u32,
-    /// Plans that searched the grid (the others kept a way no search could replace).
-    pub searches: u32,
     scratch: Search,
 }
 
@@ -223,7 +221,6 @@ impl Memory {
             path: Vec::new(),
             stale: true,
             plans: 0,
-            searches: 0,
             scratch: Search::default(),
         }
     }
@@ -491,7 +488,6 @@ impl Memory {
             self.path = old;
             return;
         }
-        self.searches += 1;
         let n = self.nx * self.ny;
         let s = &mut self.scratch;
         if s.nodes.len() != n {
