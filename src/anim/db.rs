@@ -21,7 +21,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::clip::{Clip, Ground};
-use super::skeleton::{Pose, Skeleton, angle_between};
+use super::skeleton::{Arc, Pose, Skeleton, angle_between};
 use crate::geom::wrap_angle;
 
 /// Parameters of the database. Every field documents its default.
@@ -310,6 +310,9 @@ pub struct Database {
     /// Per interval, the feet at its first and last frame: contact bits and the heel and toe
     /// positions in the interval's ground frame at that frame.
     ends: Vec<[FeetAt; 2]>,
+    /// Per clip, the arc of every joint's rotation from each frame to the next (frame by
+    /// frame, joint by joint), for sampling between frames.
+    arcs: Vec<Vec<Arc>>,
 }
 
 /// Where the feet are in a frame: contact bits ([`contact_bit`]) and the heel and toe of each
@@ -708,7 +711,18 @@ impl Database {
             contacts,
             sweep_frames,
             ends: Vec::new(),
+            arcs: Vec::new(),
         };
+        db.arcs = db
+            .clips
+            .iter()
+            .map(|c| {
+                c.frames
+                    .windows(2)
+                    .flat_map(|w| w[0].rotations.iter().zip(&w[1].rotations).map(|(&a, &b)| Arc::new(a, b)))
+                    .collect()
+            })
+            .collect();
         db.ends = (0..db.intervals.len()).map(|i| db.feet_at_ends(i)).collect();
         db.mirror = db.find_mirrors();
         // Mirrors share their measured motion exactly (mirrored), so that left and right
@@ -1059,9 +1073,29 @@ impl Database {
     /// The pose of clip `clip` at fractional frame `f`, relative to its own ground reference
     /// (root above the origin, facing +X).
     pub fn relative_pose(&self, clip: usize, f: f64) -> Pose {
-        let mut p = self.clips[clip].sample_frame(f);
-        Ground::of(&p, self.forward_offset).transform_pose(&mut p, true);
+        let mut p = Pose { root: DVec3::ZERO, rotations: Vec::with_capacity(self.skeleton.len()) };
+        self.relative_pose_into(clip, f, &mut p);
         p
+    }
+
+    /// [`relative_pose`](Self::relative_pose) into `out`, without allocating once `out` has
+    /// room: the clip sampled as [`Clip::sample_frame`] samples it, through the kept arcs.
+    pub fn relative_pose_into(&self, clip: usize, f: f64, out: &mut Pose) {
+        let c = &self.clips[clip];
+        let last = c.frames.len() - 1;
+        let x = (f * c.frame_time / c.frame_time).clamp(0.0, last as f64);
+        let i = (x.floor() as usize).min(last);
+        let t = x - i as f64;
+        if i == last {
+            out.blend_from(&c.frames[i], &c.frames[i], t);
+        } else {
+            let (a, b) = (&c.frames[i], &c.frames[i + 1]);
+            let joints = a.rotations.len();
+            out.root = a.root.lerp(b.root, t);
+            out.rotations.clear();
+            out.rotations.extend(self.arcs[clip][i * joints..(i + 1) * joints].iter().map(|arc| arc.at(t)));
+        }
+        Ground::of(out, self.forward_offset).transform_pose(out, true);
     }
 
     /// The ground reference of clip `clip` at fractional frame `f` (clamped to the clip),

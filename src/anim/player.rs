@@ -262,16 +262,19 @@ impl RootMotion {
 
     /// The relative pose now: the interval's, blended with a cross-fade's source.
     fn relative_pose(&self, db: &Database) -> Pose {
+        let mut out = Pose { root: DVec3::ZERO, rotations: Vec::new() };
+        self.relative_pose_into(db, &mut out, &mut Pose { root: DVec3::ZERO, rotations: Vec::new() });
+        out
+    }
+
+    /// [`relative_pose`](Self::relative_pose) into `out`, with `source` for the cross-fade's
+    /// source pose (both reused without allocating).
+    fn relative_pose_into(&self, db: &Database, out: &mut Pose, source: &mut Pose) {
         let iv = &db.intervals[self.interval];
-        let dst = db.relative_pose(iv.clip, self.frame);
-        match &self.source {
-            Some(s) => {
-                let src = db.relative_pose(s.clip, s.frame);
-                let mut rel = src.clone();
-                rel.blend_from(&src, &dst, self.weight());
-                rel
-            }
-            None => dst,
+        db.relative_pose_into(iv.clip, self.frame, out);
+        if let Some(s) = &self.source {
+            db.relative_pose_into(s.clip, s.frame, source);
+            out.blend_after(source, self.weight());
         }
     }
 
@@ -492,6 +495,8 @@ pub struct Player {
     root: RootMotion,
     inertial: Option<Inertial>,
     rel: Pose,
+    /// Room for a cross-fade's source pose.
+    source_pose: Pose,
     pose: Pose,
     globals: Vec<(DVec3, DQuat)>,
     history: Vec<Vec<DVec3>>,
@@ -524,6 +529,7 @@ impl Player {
             },
             inertial: None,
             pose: rel.clone(),
+            source_pose: rel.clone(),
             rel,
             globals: Vec::new(),
             history: Vec::new(),
@@ -726,7 +732,7 @@ impl Player {
     /// offset by inertialization.
     fn refresh_pose(&mut self, db: &Database) {
         let h = 1.0 / self.params.frame_rate;
-        self.rel = self.root.relative_pose(db);
+        self.root.relative_pose_into(db, &mut self.rel, &mut self.source_pose);
         if let Some(k) = &mut self.inertial {
             k.elapsed += h;
             let y = 2.0 * std::f64::consts::LN_2 / self.params.halflife_s;
@@ -861,11 +867,11 @@ impl Player {
         }
         self.points_prev = Some(points);
         // Joint jerk by third differences of world positions.
-        let positions: Vec<DVec3> = self.globals.iter().map(|g| g.0).collect();
+        // The oldest of four frames makes room for this one.
+        let mut positions = if self.history.len() >= 4 { self.history.remove(0) } else { Vec::new() };
+        positions.clear();
+        positions.extend(self.globals.iter().map(|g| g.0));
         self.history.push(positions);
-        if self.history.len() > 4 {
-            self.history.remove(0);
-        }
         if self.history.len() == 4 {
             let [a, b, c, d] = [&self.history[0], &self.history[1], &self.history[2], &self.history[3]];
             let mut peak = 0.0f64;

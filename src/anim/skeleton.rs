@@ -226,12 +226,65 @@ impl Pose {
         self.rotations.clear();
         self.rotations.extend(a.rotations.iter().zip(&b.rotations).map(|(&qa, &qb)| slerp(qa, qb, t)));
     }
+
+    /// Sets `self` to the interpolation of `a` and itself at `t` (what
+    /// [`blend_from`](Self::blend_from)`(a, self, t)` gives), in place.
+    pub fn blend_after(&mut self, a: &Pose, t: f64) {
+        self.root = a.root.lerp(self.root, t);
+        for (q, &qa) in self.rotations.iter_mut().zip(&a.rotations) {
+            *q = slerp(qa, *q, t);
+        }
+    }
 }
 
 /// Shortest-arc spherical interpolation of unit quaternions.
 pub fn slerp(a: DQuat, b: DQuat, t: f64) -> DQuat {
     let b = if a.dot(b) < 0.0 { -b } else { b };
     a.slerp(b, t).normalize()
+}
+
+/// The arc of [`slerp`] from one rotation to another with what does not depend on the
+/// fraction worked out once: [`Arc::at`] gives exactly (bit for bit) what `slerp(a, b, t)`
+/// gives, with two sines instead of an arc cosine and three sines. Clip frames are sampled
+/// between the same two neighbours again and again, so the database keeps one per joint and
+/// frame pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arc {
+    from: DQuat,
+    /// The end on the near side of `from` (negated when the dot product is negative).
+    to: DQuat,
+    /// The angle `acos(⟨from, to⟩)`; `None` when the two are too close for it (interpolated
+    /// linearly).
+    theta: Option<(f64, f64)>,
+}
+
+impl Arc {
+    /// The arc from `a` to `b`.
+    pub fn new(a: DQuat, b: DQuat) -> Arc {
+        let to = if a.dot(b) < 0.0 { -b } else { b };
+        // The same decisions as `DQuat::slerp` on the same inputs.
+        let (to, dot) = {
+            let dot = a.dot(to);
+            if dot < 0.0 { (-to, -dot) } else { (to, dot) }
+        };
+        let theta = (!(dot > 1.0 - f64::EPSILON)).then(|| {
+            let theta = dot.clamp(-1.0, 1.0).acos();
+            (theta, 1.0 / theta.sin())
+        });
+        Arc { from: a, to, theta }
+    }
+
+    /// The rotation at fraction `t` along the arc, equal to `slerp(a, b, t)`.
+    pub fn at(&self, t: f64) -> DQuat {
+        let q = match self.theta {
+            None => (self.from * (1.0 - t) + self.to * t).normalize(),
+            Some((theta, inv_sin)) => {
+                let (s1, s2) = ((theta * (1.0 - t)).sin(), (theta * t).sin());
+                ((self.from * s1) + (self.to * s2)) * inv_sin
+            }
+        };
+        q.normalize()
+    }
 }
 
 /// The angle between two rotations, `2·acos(|⟨a,b⟩|)`, radians in `[0, π]`.
@@ -249,6 +302,32 @@ pub fn heading(q: DQuat) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_arc_interpolates_exactly_as_slerp() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for k in 0..2000 {
+            let a = DQuat::from_xyzw(unit(), unit(), unit(), unit()).normalize();
+            // Near, far, opposite and identical ends.
+            let b = match k % 4 {
+                0 => DQuat::from_xyzw(unit(), unit(), unit(), unit()).normalize(),
+                1 => (a * DQuat::from_rotation_z(1e-3 * unit())).normalize(),
+                2 => -(a * DQuat::from_rotation_x(0.2 * unit())).normalize(),
+                _ => a,
+            };
+            let arc = Arc::new(a, b);
+            for t in [0.0, 1.0, 0.5, 0.25 * (unit() + 1.0), 1.0 / 3.0] {
+                let (x, y) = (arc.at(t), slerp(a, b, t));
+                assert_eq!(x.to_array().map(f64::to_bits), y.to_array().map(f64::to_bits), "{a} {b} {t}");
+            }
+        }
+    }
 
     fn chain() -> Skeleton {
         Skeleton::new(vec![
