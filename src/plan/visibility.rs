@@ -314,10 +314,11 @@ impl Graph {
         Some(Graph { hulls, nodes, hull_of, occluders, stick_out })
     }
 
-    /// Calls `visit(hull, node)` for every node of every hull other than `skip` that might be
-    /// seen from `p`: nodes behind a nearer obstacle are left out (with `cull`; without it,
-    /// every node is visited). Hulls come nearest first; `wanted(hull)` may reject a hull
-    /// before its nodes are looked at.
+    /// Calls `visit(node)` for every node of every hull other than `skip` that might be seen
+    /// from `p` and passes `admit(node)`: nodes behind a nearer obstacle are left out (with
+    /// `cull`; without it, every node is visited). Hulls come nearest first; `wanted(hull)` may
+    /// reject a hull before its nodes are looked at, and `admit`, a cheap test, rejects a node
+    /// before the shade is.
     fn candidates(
         &self,
         clearance: &Clearance,
@@ -325,6 +326,7 @@ impl Graph {
         skip: Option<usize>,
         cull: bool,
         mut wanted: impl FnMut(&Hull) -> bool,
+        admit: impl Fn(usize) -> bool,
         mut visit: impl FnMut(usize),
     ) {
         let mut shade = Shade::default();
@@ -374,6 +376,9 @@ impl Graph {
                 }
             }
             for &v in hull.nodes.iter().flatten() {
+                if !admit(v) {
+                    continue;
+                }
                 let to = self.nodes[v].pos - p;
                 if !cull || !shade.covers(to.y.atan2(to.x)) {
                     visit(v);
@@ -408,9 +413,10 @@ impl Graph {
             Some(h),
             cull,
             |other| node.may_support_towards(other.center, other.bound),
+            |v| node.supports(self.nodes[v].pos) && self.nodes[v].supports(pu),
             |v| {
                 let pv = self.nodes[v].pos;
-                if node.supports(pv) && self.nodes[v].supports(pu) && clearance.segment_clear(pu, pv) {
+                if clearance.segment_clear(pu, pv) {
                     out.push((v, pu.distance(pv)));
                 }
             },
@@ -422,8 +428,13 @@ impl Graph {
     /// Whether node `u` joins the free point `p` by a clear segment along a line supporting
     /// the node's polygon (any vertex of a polygon whose approximation contains `p`).
     pub(crate) fn joins(&self, clearance: &Clearance, u: usize, p: DVec2) -> bool {
-        let node = &self.nodes[u];
-        (node.supports(p) || self.hulls[self.hull_of[u]].contains(p)) && clearance.segment_clear(p, node.pos)
+        self.may_join(u, p) && clearance.segment_clear(p, self.nodes[u].pos)
+    }
+
+    /// The cheap half of [`joins`](Self::joins): the line supports the node's polygon, or the
+    /// polygon contains `p`.
+    fn may_join(&self, u: usize, p: DVec2) -> bool {
+        self.nodes[u].supports(p) || self.hulls[self.hull_of[u]].contains(p)
     }
 
     /// Nodes that a free point `p` can see along a line supporting the node's polygon (any
@@ -437,8 +448,9 @@ impl Graph {
             None,
             cull,
             |_| true,
+            |v| self.may_join(v, p),
             |v| {
-                if self.joins(clearance, v, p) {
+                if clearance.segment_clear(p, self.nodes[v].pos) {
                     out.push((v, p.distance(self.nodes[v].pos)));
                 }
             },
