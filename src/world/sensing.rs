@@ -88,20 +88,32 @@ fn sense_shape(shape: &Shape, p: DVec2, heading: f64, layout: &SectorLayout, ray
     let c = shape.closest_point(p);
     let d = c.distance(p);
     let inside = shape.contains(p);
-    let bearing = if d > 0.0 { wrap_angle((c - p).to_angle() - heading) } else { 0.0 };
+    let bearing = || if d > 0.0 { wrap_angle((c - p).to_angle() - heading) } else { 0.0 };
     if d < out.nearest || inside {
         out.nearest = if inside { 0.0 } else { d };
-        out.nearest_bearing = bearing;
+        out.nearest_bearing = bearing();
     }
     if inside {
         out.sectors.iter_mut().for_each(|s| *s = 0.0);
         return;
     }
+    // Every point of the shape is at least `d` away, and a ray's hit no nearer than `d` less
+    // rounding (hence the relative slack): the shape can only lower distances above that.
+    let lowers = |s: f64| d < s * (1.0 + 1e-9);
     let n = layout.len();
+    if !out.sectors.iter().any(|&s| lowers(s)) {
+        return;
+    }
+    let bearing = bearing();
     if let Some(k) = (0..n).find(|&k| layout.edges[k] <= bearing && bearing < layout.edges[k + 1]) {
         out.sectors[k] = out.sectors[k].min(d);
     }
     for (j, dir) in rays.iter().enumerate() {
+        let before = if j > 0 { out.sectors[j - 1] } else { 0.0 };
+        let after = if j < n { out.sectors[j] } else { 0.0 };
+        if !lowers(before.max(after)) {
+            continue;
+        }
         if let Some(t) = shape.ray_cast(p, *dir, layout.range) {
             if j > 0 {
                 out.sectors[j - 1] = out.sectors[j - 1].min(t);
