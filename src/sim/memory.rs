@@ -356,27 +356,32 @@ impl Memory {
         // straight to without touching what is remembered (with the margin if it can), so
         // that steering toward it never cuts a corner into a wall; else the next point.
         let mut along = from.distance(self.path[0]);
+        let mut prev = self.path[0];
+        let reach = self
+            .path
+            .iter()
+            .position(|&p| {
+                along += prev.distance(p);
+                prev = p;
+                along > self.params.waypoint_m
+            })
+            .unwrap_or(self.path.len());
         // The farthest point in clear sight, and the farthest at least
         // [`MIN_ROOMY_WAYPOINT_M`] away, free in sight, whose line keeps the whole margin, or
-        // its outer bands.
+        // its outer bands. Looked for from the far end: the first roomy point settles it.
         let (mut clear, mut roomy, mut kept) = (None, None, None);
-        let mut prev = self.path[0];
-        for &p in &self.path {
-            along += prev.distance(p);
-            prev = p;
-            if along > self.params.waypoint_m {
-                break;
+        for &p in self.path[..reach].iter().rev() {
+            let Some(depth) = self.line_depth(from, p) else { continue };
+            clear.get_or_insert(p);
+            if depth != 0 && (depth >= BANDS || kept.is_some()) {
+                continue;
             }
-            if let Some(depth) = self.line_depth(from, p) {
-                clear = Some(p);
-                let to = p - from;
-                if p.distance(from) >= MIN_ROOMY_WAYPOINT_M && sight(to.to_angle()) >= to.length() {
-                    if depth == 0 {
-                        roomy = Some(p);
-                    }
-                    if depth < BANDS {
-                        kept = Some(p);
-                    }
+            let to = p - from;
+            if p.distance(from) >= MIN_ROOMY_WAYPOINT_M && sight(to.to_angle()) >= to.length() {
+                kept.get_or_insert(p);
+                if depth == 0 {
+                    roomy = Some(p);
+                    break;
                 }
             }
         }
