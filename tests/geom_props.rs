@@ -190,6 +190,12 @@ proptest! {
     ) {
         let g = poly.grown(r, segments).unwrap();
         prop_assert!(is_strictly_convex_ccw(&g));
+        // The same polygon as the hull of its points, up to where the loop starts.
+        let hull = ConvexPolygon::hull(g.vertices()).unwrap();
+        let (a, b) = (g.vertices(), hull.vertices());
+        prop_assert_eq!(a.len(), b.len());
+        let start = b.iter().position(|&p| p == a[0]);
+        prop_assert!(start.is_some_and(|s| (0..a.len()).all(|k| a[k] == b[(s + k) % b.len()])));
         prop_assert!(g.area() >= poly.area());
         let v = poly.vertices();
         for (edge, t, angle, s) in samples {

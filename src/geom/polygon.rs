@@ -422,7 +422,9 @@ impl ConvexPolygon {
                 out.push(cur + DVec2::from_angle(angle) * reach);
             }
         }
-        Self::hull(&out)
+        // The corner arcs come out in order around a convex loop: taken as it is unless
+        // rounding bent it somewhere, when the hull of the points is.
+        Self::from_loop(sanitize_all(&out)?).or_else(|_| Self::hull(&out))
     }
 }
 
