@@ -51,6 +51,13 @@ pub fn wrap_angle(a: f64) -> f64 {
     x
 }
 
+/// `x.floor() as i64` (saturating, 0 for NaN) without the floating-point floor, which the
+/// baseline x86-64 target makes a library call: truncate, then step down when that rounded up.
+pub fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    t.saturating_sub(i64::from(t as f64 > x))
+}
+
 /// `3x² − 2x³` on `[0, 1]`, clamped outside: the smooth ramp used by blends and key frames.
 pub fn smoothstep(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);

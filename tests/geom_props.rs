@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec2;
 use proptest::prelude::*;
-use strider::geom::{Aabb, ConvexPolygon, GeomError, Shape, SpatialIndex, decompose, orientation};
+use strider::geom::{Aabb, ConvexPolygon, GeomError, Shape, SpatialIndex, decompose, floor_i64, orientation};
 
 fn point(range: f64) -> impl Strategy<Value = DVec2> {
     (-range..range, -range..range).prop_map(|(x, y)| DVec2::new(x, y))
@@ -182,6 +182,13 @@ proptest! {
     }
 
     #[test]
+    fn floor_to_integer_agrees_with_the_float_floor(x in prop::num::f64::ANY, small in -1e6..1e6f64) {
+        for v in [x, small, small.round(), -small.fract()] {
+            prop_assert_eq!(floor_i64(v), v.floor() as i64, "{}", v);
+        }
+    }
+
+    #[test]
     fn grown_polygon_contains_the_rounded_shape(
         poly in polygon(),
         r in 0.01..5.0f64,
@@ -339,5 +346,29 @@ proptest! {
         prop_assert!(d >= sampled - a.distance(b) / (2 * N) as f64 - 1e-9, "{} far below the samples {}", d, sampled);
         let c = Capsule { a, b, radius: r };
         prop_assert!((prism.capsule_clearance(&c) - (d - r)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn floor_to_integer_agrees_at_the_edges() {
+    let edges = [
+        0.0,
+        -0.0,
+        -0.5,
+        0.5,
+        -1.0,
+        f64::MIN_POSITIVE,
+        -f64::MIN_POSITIVE,
+        9.223372036854775807e18,
+        -9.223372036854775808e18,
+        -9.3e18,
+        1e300,
+        -1e300,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ];
+    for v in edges {
+        assert_eq!(floor_i64(v), v.floor() as i64, "{v}");
     }
 }

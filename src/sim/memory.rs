@@ -227,7 +227,7 @@ impl Memory {
 
     fn cell_of(&self, p: DVec2) -> (i64, i64) {
         let q = (p - self.origin) / self.params.cell_m;
-        (q.x.floor() as i64, q.y.floor() as i64)
+        (crate::geom::floor_i64(q.x), crate::geom::floor_i64(q.y))
     }
 
     fn centre(&self, i: i64, j: i64) -> DVec2 {
