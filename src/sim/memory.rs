@@ -126,6 +126,9 @@ pub struct Memory {
     goal: DVec2,
     /// The current path, world points from near the agent to the goal.
     path: Vec<DVec2>,
+    /// Corners of a box holding every point of the path (the path only shrinks between
+    /// plans).
+    path_box: (DVec2, DVec2),
     /// A newly marked cell lies on or near the path: plan again.
     stale: bool,
     /// Plans made so far.
@@ -219,6 +222,7 @@ impl Memory {
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
+            path_box: (DVec2::ZERO, DVec2::ZERO),
             stale: true,
             plans: 0,
             scratch: Search::default(),
@@ -281,7 +285,10 @@ impl Memory {
         if !self.stale {
             // Does the new obstacle come near the path?
             let q = self.centre(i, j);
-            if self.path.iter().any(|p| p.distance(q) <= self.stale_m) {
+            // Off the path's box by more than the distance (and rounding), it is near no point.
+            let (lo, hi) = self.path_box;
+            let off = (lo - q).max(q - hi).max_element();
+            if off <= self.stale_m + 1e-9 && self.path.iter().any(|p| p.distance(q) <= self.stale_m) {
                 self.stale = true;
             }
         }
@@ -601,6 +608,8 @@ impl Memory {
         if let Some(last) = self.path.last_mut() {
             *last = self.goal;
         }
+        self.path_box =
+            self.path.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
     }
 
     /// Extra cost per metre of crossing cell `k` (its depth in the margin).
