@@ -84,7 +84,8 @@ pub struct Sensed {
 }
 
 /// Folds one convex shape into the sensed distances.
-fn sense_shape(shape: &Shape, p: DVec2, heading: f64, layout: &SectorLayout, rays: &[DVec2], out: &mut Sensed) {
+/// (`edges` as [`SectorLayout::edges`], rays cast up to `range` metres).
+fn sense_shape(shape: &Shape, p: DVec2, heading: f64, edges: &[f64], range: f64, rays: &[DVec2], out: &mut Sensed) {
     let c = shape.closest_point(p);
     let d = c.distance(p);
     let inside = shape.contains(p);
@@ -100,12 +101,12 @@ fn sense_shape(shape: &Shape, p: DVec2, heading: f64, layout: &SectorLayout, ray
     // Every point of the shape is at least `d` away, and a ray's hit no nearer than `d` less
     // rounding (hence the relative slack): the shape can only lower distances above that.
     let lowers = |s: f64| d < s * (1.0 + 1e-9);
-    let n = layout.len();
+    let n = edges.len().saturating_sub(1);
     if !out.sectors.iter().any(|&s| lowers(s)) {
         return;
     }
     let bearing = bearing();
-    if let Some(k) = (0..n).find(|&k| layout.edges[k] <= bearing && bearing < layout.edges[k + 1]) {
+    if let Some(k) = (0..n).find(|&k| edges[k] <= bearing && bearing < edges[k + 1]) {
         out.sectors[k] = out.sectors[k].min(d);
     }
     for (j, dir) in rays.iter().enumerate() {
@@ -114,7 +115,7 @@ fn sense_shape(shape: &Shape, p: DVec2, heading: f64, layout: &SectorLayout, ray
         if !lowers(before.max(after)) {
             continue;
         }
-        if let Some(t) = shape.ray_cast(p, *dir, layout.range) {
+        if let Some(t) = shape.ray_cast(p, *dir, range) {
             if j > 0 {
                 out.sectors[j - 1] = out.sectors[j - 1].min(t);
             }
@@ -152,15 +153,14 @@ impl World {
             *r = DVec2::from_angle(heading + a);
         }
         self.parts_near(position, reach, scratch);
-        let wide = SectorLayout { edges: layout.edges.clone(), range: reach };
         for &i in scratch.iter() {
-            sense_shape(&self.parts()[i].shape, position, heading, &wide, &rays[..n_rays], out);
+            sense_shape(&self.parts()[i].shape, position, heading, &layout.edges, reach, &rays[..n_rays], out);
         }
         for &(c, r) in others {
             if c.distance(position) - r <= reach
                 && let Ok(disc) = Shape::circle(c, r)
             {
-                sense_shape(&disc, position, heading, &wide, &rays[..n_rays], out);
+                sense_shape(&disc, position, heading, &layout.edges, reach, &rays[..n_rays], out);
             }
         }
         for s in out.sectors.iter_mut() {
