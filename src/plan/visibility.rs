@@ -314,18 +314,17 @@ impl Graph {
         Some(Graph { hulls, nodes, hull_of, occluders, stick_out })
     }
 
-    /// Calls `visit(node)` for every node of every hull other than `skip` that might be seen
-    /// from `p` and passes `admit(node)`: nodes behind a nearer obstacle are left out (with
-    /// `cull`; without it, every node is visited). Hulls come nearest first; `wanted(hull)` may
-    /// reject a hull before its nodes are looked at, and `admit`, a cheap test, rejects a node
-    /// before the shade is.
+    /// Calls `visit(node)` for every node that might be seen from `p` and passes
+    /// `admit(node)`: nodes behind a nearer obstacle are left out (with `cull`; without it,
+    /// every node is visited). Hulls come nearest first; `wanted(index, hull)` may reject a
+    /// hull before its nodes are looked at, and `admit`, a cheap test, rejects a node before
+    /// the shade is.
     fn candidates(
         &self,
         clearance: &Clearance,
         p: DVec2,
-        skip: Option<usize>,
         cull: bool,
-        mut wanted: impl FnMut(&Hull) -> bool,
+        mut wanted: impl FnMut(usize, &Hull) -> bool,
         admit: impl Fn(usize) -> bool,
         mut visit: impl FnMut(usize),
     ) {
@@ -352,7 +351,7 @@ impl Graph {
                 }
             }
             let hull = &self.hulls[h];
-            if Some(h) == skip || !wanted(hull) {
+            if !wanted(h, hull) {
                 return true;
             }
             if cull && let Some(b) = clearance.grown_aabb(h) {
@@ -410,9 +409,8 @@ impl Graph {
         self.candidates(
             clearance,
             pu,
-            Some(h),
             cull,
-            |other| node.may_support_towards(other.center, other.bound),
+            |k, other| k != h && node.may_support_towards(other.center, other.bound),
             |v| node.supports(self.nodes[v].pos) && self.nodes[v].supports(pu),
             |v| {
                 let pv = self.nodes[v].pos;
@@ -445,9 +443,8 @@ impl Graph {
         self.candidates(
             clearance,
             p,
-            None,
             cull,
-            |_| true,
+            |_, _| true,
             |v| self.may_join(v, p),
             |v| {
                 if clearance.segment_clear(p, self.nodes[v].pos) {
