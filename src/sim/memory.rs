@@ -129,11 +129,66 @@ pub struct Memory {
     /// Corners of a box holding every point of the path (the path only shrinks between
     /// plans).
     path_box: (DVec2, DVec2),
+    /// The last search found no way to the goal.
+    failed: bool,
     /// A newly marked cell lies on or near the path: plan again.
     stale: bool,
     /// Plans made so far.
     pub plans: u32,
     scratch: Search,
+}
+
+/// The eight steps of the search: offsets and whether the step is diagonal.
+const STEPS: [(i64, i64, bool); 8] = [
+    (1, 0, false),
+    (-1, 0, false),
+    (0, 1, false),
+    (0, -1, false),
+    (1, 1, true),
+    (1, -1, true),
+    (-1, 1, true),
+    (-1, -1, true),
+];
+
+/// The moves a search from `start` to cell `goal` may make over the cells.
+struct Moves<'a> {
+    cells: &'a [u8],
+    nx: i64,
+    ny: i64,
+    goal: usize,
+    start: (i64, i64),
+    /// Closed cells the agent may cross to get out of the inflation it stands in: those
+    /// within this many cells of the start.
+    escape: i64,
+}
+
+impl Moves<'_> {
+    /// The cell that `step` from cell `(x, y)` enters, if the search may take it.
+    #[inline(always)]
+    fn step(&self, x: i64, y: i64, (dx, dy, diagonal): (i64, i64, bool)) -> Option<usize> {
+        let (mx, my) = (x + dx, y + dy);
+        if mx < 0 || my < 0 || mx >= self.nx || my >= self.ny {
+            return None;
+        }
+        let m = (my * self.nx + mx) as usize;
+        (self.enterable(m, mx, my, self.cells[m]) && !(diagonal && self.squeezed(x, y, mx, my))).then_some(m)
+    }
+
+    /// Whether the search may enter cell `m` at `(mx, my)`, in state `cell`. The agent may
+    /// stand in inflated cells (close to a wall): it may leave them, but closed cells are
+    /// crossed only within the disc's reach of where it stands, never through a wall.
+    #[inline(always)]
+    fn enterable(&self, m: usize, mx: i64, my: i64, cell: u8) -> bool {
+        cell & HARD == 0
+            || m == self.goal
+            || (cell & MARKED == 0 && (mx - self.start.0).abs().max((my - self.start.1).abs()) <= self.escape)
+    }
+
+    /// Whether a diagonal step from `(x, y)` to `(mx, my)` squeezes between two closed cells.
+    #[inline(always)]
+    fn squeezed(&self, x: i64, y: i64, mx: i64, my: i64) -> bool {
+        self.cells[(y * self.nx + mx) as usize] & self.cells[(my * self.nx + x) as usize] & HARD != 0
+    }
 }
 
 /// A cell's bit: a ray hit an obstacle in it.
@@ -151,6 +206,22 @@ struct Search {
     nodes: Vec<Node>,
     generation: u32,
     open: QuaternaryHeap<Reverse<u64>>,
+}
+
+impl Search {
+    /// Starts a search over `n` cells: the stamp its reached cells get, which no cell has yet.
+    fn begin(&mut self, n: usize) -> u32 {
+        if self.nodes.len() != n {
+            self.nodes = vec![Node::default(); n];
+            self.generation = 0;
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.nodes.iter_mut().for_each(|x| x.stamp = 0);
+            self.generation = 1;
+        }
+        self.generation
+    }
 }
 
 /// A cell's state in the search: reached in the search of this generation, at this cost, from
@@ -223,6 +294,7 @@ impl Memory {
             goal,
             path: Vec::new(),
             path_box: (DVec2::ZERO, DVec2::ZERO),
+            failed: false,
             stale: true,
             plans: 0,
             scratch: Search::default(),
@@ -500,18 +572,13 @@ impl Memory {
             self.path = old;
             return;
         }
-        let n = self.nx * self.ny;
+        // After a search that found no way, the next is likely to find none either: a plain
+        // flood over the same moves tells at a fraction of the search's cost.
+        if self.failed && !self.reaches(start, goal, (si, sj)) {
+            return;
+        }
         let s = &mut self.scratch;
-        if s.nodes.len() != n {
-            s.nodes = vec![Node::default(); n];
-            s.generation = 0;
-        }
-        s.generation = s.generation.wrapping_add(1);
-        if s.generation == 0 {
-            s.nodes.iter_mut().for_each(|x| x.stamp = 0);
-            s.generation = 1;
-        }
-        let gen_ = s.generation;
+        let gen_ = s.begin(self.nx * self.ny);
         let (nodes, open) = (&mut s.nodes, &mut s.open);
         open.clear();
         nodes[start] = Node { stamp: gen_, cost: 0.0, parent: start as u32 };
@@ -526,18 +593,9 @@ impl Memory {
         });
         let (nx, ny) = (self.nx as i64, self.ny as i64);
         let cells = &self.cells;
+        let grid = Moves { cells, nx, ny, goal, start: (si, sj), escape };
         let mut expanded = 0usize;
         let mut found = false;
-        const STEPS: [(i64, i64, bool); 8] = [
-            (1, 0, false),
-            (-1, 0, false),
-            (0, 1, false),
-            (0, -1, false),
-            (1, 1, true),
-            (1, -1, true),
-            (-1, 1, true),
-            (-1, -1, true),
-        ];
         while let Some(Reverse(key)) = open.pop() {
             let (f, k) = Open::unkey(key);
             let g = nodes[k].cost;
@@ -560,17 +618,7 @@ impl Memory {
                 }
                 let m = (my * nx + mx) as usize;
                 let cell = cells[m];
-                // The agent may stand in inflated cells (close to a wall): it may leave them,
-                // but closed cells are crossed only within the disc's reach of where it stands,
-                // never through a wall.
-                if cell & HARD != 0
-                    && m != goal
-                    && (cell & MARKED != 0 || (mx - si).abs().max((my - sj).abs()) > escape)
-                {
-                    continue;
-                }
-                // No squeezing diagonally between two closed cells.
-                if diagonal && cells[(y * nx + mx) as usize] & cells[(my * nx + x) as usize] & HARD != 0 {
+                if !grid.enterable(m, mx, my, cell) || (diagonal && grid.squeezed(x, y, mx, my)) {
                     continue;
                 }
                 let ng = g + step_cost[usize::from(cell & BAND)][usize::from(diagonal)];
@@ -581,6 +629,7 @@ impl Memory {
                 }
             }
         }
+        self.failed = !found;
         if !found {
             return;
         }
@@ -610,6 +659,38 @@ impl Memory {
         }
         self.path_box =
             self.path.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    }
+
+    /// Whether the search from cell `start` (at `(si, sj)`) can reach cell `goal` at all.
+    #[inline(never)]
+    fn reaches(&mut self, start: usize, goal: usize, (si, sj): (i64, i64)) -> bool {
+        let s = &mut self.scratch;
+        let stamp = s.begin(self.nx * self.ny);
+        let nx = self.nx as i64;
+        let grid =
+            Moves { cells: &self.cells, nx, ny: self.ny as i64, goal, start: (si, sj), escape: self.reach_cells };
+        // Depth first, the steps toward the goal tried first: where there is a way, it is
+        // usually found about as fast as it is long.
+        let (gx, gy) = ((goal as i64 % nx - si) as f64, (goal as i64 / nx - sj) as f64);
+        let mut steps = STEPS;
+        steps.sort_by(|a, b| (a.0 as f64 * gx + a.1 as f64 * gy).total_cmp(&(b.0 as f64 * gx + b.1 as f64 * gy)));
+        s.nodes[start].stamp = stamp;
+        let mut todo = vec![start];
+        while let Some(k) = todo.pop() {
+            if k == goal {
+                return true;
+            }
+            let (x, y) = ((k as i64) % nx, (k as i64) / nx);
+            for &step in &steps {
+                if let Some(m) = grid.step(x, y, step)
+                    && s.nodes[m].stamp != stamp
+                {
+                    s.nodes[m].stamp = stamp;
+                    todo.push(m);
+                }
+            }
+        }
+        false
     }
 
     /// Extra cost per metre of crossing cell `k` (its depth in the margin).
@@ -708,6 +789,60 @@ mod tests {
         let aim = m.heading(from, |_| f64::INFINITY).unwrap();
         assert!(aim.remaining_m > 3.0, "{aim:?}");
         assert!(m.path().iter().all(|p| p.x < 1.9 || p.x > 2.2 || p.y < -1.0 || p.y > 5.0), "{:?}", m.path());
+    }
+
+    #[test]
+    fn the_flood_finds_a_way_exactly_when_the_search_does() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let goal = DVec2::new(4.0, 0.0);
+        let (mut ways, mut none) = (0, 0);
+        for _ in 0..60 {
+            let mut m = Memory::new(DVec2::ZERO, goal, 0.3, MemoryParams::default());
+            // A broken ring round the goal and scattered marks.
+            let gap = unit() * std::f64::consts::TAU;
+            let width = if unit() < 0.5 { 0.0 } else { 0.3 + unit() };
+            for k in 0..400 {
+                let a = std::f64::consts::TAU * k as f64 / 400.0;
+                if (a - gap).rem_euclid(std::f64::consts::TAU) >= width {
+                    m.mark(goal + DVec2::from_angle(a) * 1.5);
+                }
+            }
+            for _ in 0..40 {
+                m.mark(DVec2::new(unit() * 8.0 - 2.0, unit() * 8.0 - 4.0));
+            }
+            for _ in 0..5 {
+                let from = DVec2::new(unit() * 8.0 - 2.0, unit() * 8.0 - 4.0);
+                let (si, sj) = m.cell_of(from);
+                m.include(si, sj);
+                let (gi, gj) = m.cell_of(goal);
+                m.include(gi, gj);
+                let (si, sj) = m.cell_of(from);
+                let (gi, gj) = m.cell_of(goal);
+                let (start, end) = (m.index(si, sj).unwrap(), m.index(gi, gj).unwrap());
+                let flood = m.reaches(start, end, (si, sj));
+                m.failed = false;
+                m.plan(from, false);
+                assert_eq!(flood, !m.path.is_empty(), "from {from}");
+                if flood {
+                    ways += 1
+                } else {
+                    none += 1
+                }
+                // Once a search has found nothing, the next one goes by the flood.
+                if !flood {
+                    assert!(m.failed);
+                    m.plan(from, false);
+                    assert!(m.path.is_empty());
+                }
+            }
+        }
+        assert!(ways > 20 && none > 20, "{ways} {none}");
     }
 
     #[test]
