@@ -690,14 +690,17 @@ pub fn heading_to_goal(scan: &[f64], from: DVec2, goal: DVec2, radius: f64, rang
     if n == 0 {
         return (direct, d_goal);
     }
-    let free = swept_free(scan, radius, range);
     let fan = Fan::of(n);
     let step = std::f64::consts::TAU / n as f64;
     let gi = ((direct.rem_euclid(std::f64::consts::TAU) / step).round() as usize) % n;
-    if free[gi] >= d_goal.min(range) - 1e-9 {
-        let reachable = if free[gi] >= d_goal { 0.0 } else { d_goal - free[gi] };
+    // The ray toward the goal alone first (what `swept_free` gives on it); all of them only
+    // when the goal is not in the clear.
+    let ahead = swept_free_along(scan, gi, radius, radius, range, |d| fan.turns[d]);
+    if ahead >= d_goal.min(range) - 1e-9 {
+        let reachable = if ahead >= d_goal { 0.0 } else { d_goal - ahead };
         return (direct, reachable);
     }
+    let free = swept_free(scan, radius, range);
     let mut best = (f64::INFINITY, direct);
     let mut reachable = d_goal;
     for (i, &f) in free.iter().enumerate() {
