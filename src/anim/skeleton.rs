@@ -305,13 +305,8 @@ mod tests {
 
     #[test]
     fn an_arc_interpolates_exactly_as_slerp() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::rng::stream(7, 0, 0);
+        let mut unit = || crate::rng::uniform(&mut rng, -1.0, 1.0);
         for k in 0..2000 {
             let a = DQuat::from_xyzw(unit(), unit(), unit(), unit()).normalize();
             // Near, far, opposite and identical ends.

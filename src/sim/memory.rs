@@ -793,13 +793,8 @@ mod tests {
 
     #[test]
     fn the_flood_finds_a_way_exactly_when_the_search_does() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::rng::stream(11, 0, 0);
+        let mut unit = || crate::rng::unit(&mut rng);
         let goal = DVec2::new(4.0, 0.0);
         let (mut ways, mut none) = (0, 0);
         for _ in 0..60 {
