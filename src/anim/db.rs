@@ -21,7 +21,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::clip::{Clip, Ground};
-use super::skeleton::{Arc, Pose, Skeleton, angle_between};
+use super::skeleton::{Pose, Skeleton, SlerpArc, angle_between};
 use crate::geom::wrap_angle;
 
 /// Parameters of the database. Every field documents its default.
@@ -312,7 +312,7 @@ pub struct Database {
     ends: Vec<[FeetAt; 2]>,
     /// Per clip, the arc of every joint's rotation from each frame to the next (frame by
     /// frame, joint by joint), for sampling between frames.
-    arcs: Vec<Vec<Arc>>,
+    arcs: Vec<Vec<SlerpArc>>,
 }
 
 /// Where the feet are in a frame: contact bits ([`contact_bit`]) and the heel and toe of each
@@ -719,7 +719,7 @@ impl Database {
             .map(|c| {
                 c.frames
                     .windows(2)
-                    .flat_map(|w| w[0].rotations.iter().zip(&w[1].rotations).map(|(&a, &b)| Arc::new(a, b)))
+                    .flat_map(|w| w[0].rotations.iter().zip(&w[1].rotations).map(|(&a, &b)| SlerpArc::new(a, b)))
                     .collect()
             })
             .collect();

@@ -244,12 +244,12 @@ pub fn slerp(a: DQuat, b: DQuat, t: f64) -> DQuat {
 }
 
 /// The arc of [`slerp`] from one rotation to another with what does not depend on the
-/// fraction worked out once: [`Arc::at`] gives exactly (bit for bit) what `slerp(a, b, t)`
+/// fraction worked out once: [`SlerpArc::at`] gives exactly (bit for bit) what `slerp(a, b, t)`
 /// gives, with two sines instead of an arc cosine and three sines. Clip frames are sampled
 /// between the same two neighbours again and again, so the database keeps one per joint and
 /// frame pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Arc {
+pub struct SlerpArc {
     from: DQuat,
     /// The end on the near side of `from` (negated when the dot product is negative).
     to: DQuat,
@@ -258,9 +258,9 @@ pub struct Arc {
     theta: Option<(f64, f64)>,
 }
 
-impl Arc {
+impl SlerpArc {
     /// The arc from `a` to `b`.
-    pub fn new(a: DQuat, b: DQuat) -> Arc {
+    pub fn new(a: DQuat, b: DQuat) -> SlerpArc {
         let to = if a.dot(b) < 0.0 { -b } else { b };
         // The same decisions as `DQuat::slerp` on the same inputs.
         let (to, dot) = {
@@ -271,7 +271,7 @@ impl Arc {
             let theta = dot.clamp(-1.0, 1.0).acos();
             (theta, 1.0 / theta.sin())
         });
-        Arc { from: a, to, theta }
+        SlerpArc { from: a, to, theta }
     }
 
     /// The rotation at fraction `t` along the arc, equal to `slerp(a, b, t)`.
@@ -316,7 +316,7 @@ mod tests {
                 2 => -(a * DQuat::from_rotation_x(0.2 * unit())).normalize(),
                 _ => a,
             };
-            let arc = Arc::new(a, b);
+            let arc = SlerpArc::new(a, b);
             for t in [0.0, 1.0, 0.5, 0.25 * (unit() + 1.0), 1.0 / 3.0] {
                 let (x, y) = (arc.at(t), slerp(a, b, t));
                 assert_eq!(x.to_array().map(f64::to_bits), y.to_array().map(f64::to_bits), "{a} {b} {t}");

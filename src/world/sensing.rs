@@ -83,8 +83,8 @@ pub struct Sensed {
     pub scan: Vec<f64>,
 }
 
-/// Folds one convex shape into the sensed distances.
-/// (`edges` as [`SectorLayout::edges`], rays cast up to `range` metres).
+/// Folds one convex shape into the sensed distances: the sectors bounded by `edges` (as
+/// [`SectorLayout::edges`]), the wedge boundary `rays` cast up to `range` metres.
 fn sense_shape(shape: &Shape, p: DVec2, heading: f64, edges: &[f64], range: f64, rays: &[DVec2], out: &mut Sensed) {
     let c = shape.closest_point(p);
     let d = c.distance(p);
@@ -99,8 +99,9 @@ fn sense_shape(shape: &Shape, p: DVec2, heading: f64, edges: &[f64], range: f64,
         return;
     }
     // Every point of the shape is at least `d` away, and a ray's hit no nearer than `d` less
-    // rounding (hence the relative slack): the shape can only lower distances above that.
-    let lowers = |s: f64| d < s * (1.0 + 1e-9);
+    // rounding (far less than the nanometre of slack): the shape can only lower distances
+    // above that.
+    let lowers = |s: f64| d < s + 1e-9;
     let n = edges.len().saturating_sub(1);
     if !out.sectors.iter().any(|&s| lowers(s)) {
         return;
