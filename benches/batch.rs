@@ -6,8 +6,7 @@
 use divan::{Bencher, black_box};
 use strider::experiment::{self, Job};
 use strider::maps::kind::{self, WorldKind};
-use strider::script::{Limits, ScriptLog, fuzzy_api};
-use strider::sim::{AnimationHandle, ControllerParams, LayeredController, StepParameters};
+use strider::sim::{AnimationHandle, LayeredController, StepParameters};
 
 fn main() {
     divan::main();
@@ -16,14 +15,7 @@ fn main() {
 const EPISODES: usize = 20;
 
 fn controller() -> LayeredController {
-    let engines = fuzzy_api::load_engines(
-        include_str!("../scripts/nav.rhai"),
-        "scripts/nav.rhai",
-        Limits::default(),
-        &ScriptLog::new(),
-    )
-    .expect("navigation rules");
-    LayeredController::new(&engines, ControllerParams::default()).expect("controller")
+    strider::builtin::controller().expect("built-in rules")
 }
 
 fn batch(params: &StepParameters) -> u64 {
@@ -49,9 +41,7 @@ fn cluttered_batch_disc(bencher: Bencher) {
 /// The animated character (the default body).
 #[divan::bench(sample_count = 3)]
 fn cluttered_batch_character(bencher: Bencher) {
-    let db = strider::builtin::database().expect("database");
-    let policy = strider::builtin::policy(&db).expect("policy");
-    let anim = strider::sim::Animation::new(db, policy);
+    let anim = strider::builtin::animation().expect("built-in character");
     let params =
         StepParameters { animation: Some(AnimationHandle(std::sync::Arc::new(anim))), ..StepParameters::default() };
     eprintln!("character batch: {} agent-steps per iteration", batch(&params));

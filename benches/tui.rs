@@ -12,8 +12,7 @@ use glam::DVec2;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use strider::maps::generate::{Density, random_world};
-use strider::script::{Limits, ScriptLog, fuzzy_api};
-use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController};
+use strider::sim::AnimationHandle;
 use strider::tui::{App, Config, MapSpec, ui};
 use strider::world::{Pose, Task};
 
@@ -24,11 +23,7 @@ fn main() {
 /// A semi-cluttered random world with `n` agents on a grid of free start points, all heading
 /// for the world's goal, after two seconds of simulation (trails and sensors filled in).
 fn app_with_agents(n: usize, animation: Option<AnimationHandle>) -> App {
-    let log = ScriptLog::new();
-    let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
-            .expect("navigation rules");
-    let controller = LayeredController::new(&engines, ControllerParams::default()).expect("controller");
+    let controller = strider::builtin::controller().expect("built-in rules");
     let mut scenario = random_world(Density::Semi, 7);
     let goal = scenario.tasks[0].goal;
     let world = scenario.world();
@@ -72,9 +67,7 @@ fn frame_100_agents_200x60(bencher: Bencher) {
 
 /// The built-in animated character.
 fn character() -> AnimationHandle {
-    let db = strider::builtin::database().expect("database");
-    let policy = strider::builtin::policy(&db).expect("policy");
-    AnimationHandle(Arc::new(Animation::new(db, policy)))
+    AnimationHandle(Arc::new(strider::builtin::animation().expect("built-in character")))
 }
 
 /// A simulation step of 100 agents and a full frame of them on 200×60 cells, from the same

@@ -15,9 +15,9 @@ use std::time::Instant;
 use divan::{Bencher, black_box};
 use strider::experiment::run_episode;
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::script::{Limits, ScriptLog, map_api};
 use strider::sim::footing::{Stopwatch, StopwatchHandle};
-use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, StepParameters};
+use strider::sim::{AnimationHandle, LayeredController, StepParameters};
 
 const SCENES: [&str; 5] = ["overhead_bar", "shelves", "low_bar", "table", "all"];
 
@@ -36,21 +36,12 @@ fn scene(name: &str) -> Scenario {
 }
 
 fn controller() -> LayeredController {
-    let engines = fuzzy_api::load_engines(
-        include_str!("../scripts/nav.rhai"),
-        "scripts/nav.rhai",
-        Limits::default(),
-        &ScriptLog::new(),
-    )
-    .expect("navigation rules");
-    LayeredController::new(&engines, ControllerParams::default()).expect("controller")
+    strider::builtin::controller().expect("built-in rules")
 }
 
 fn params(stopwatch: bool) -> StepParameters {
-    let db = strider::builtin::database().expect("database");
-    let policy = strider::builtin::policy(&db).expect("policy");
     StepParameters {
-        animation: Some(AnimationHandle(Arc::new(Animation::new(db, policy)))),
+        animation: Some(AnimationHandle(Arc::new(strider::builtin::animation().expect("built-in character")))),
         stopwatch: stopwatch.then(|| StopwatchHandle(Arc::new(Wall(Instant::now())))),
         ..StepParameters::default()
     }

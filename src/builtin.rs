@@ -5,6 +5,8 @@
 
 use crate::anim::policy::{Policy, PolicyError};
 use crate::anim::{Database, DbError};
+use crate::script::{Limits, ScriptLog, fuzzy_api};
+use crate::sim::{Animation, ControllerParams, LayeredController};
 
 /// The default navigation rules: the layered fuzzy network of `scripts/nav.rhai`.
 pub const DEFAULT_RULES: &str = include_str!("../scripts/nav.rhai");
@@ -33,4 +35,19 @@ pub fn database() -> Result<Database, DbError> {
 /// The built-in policy, checked against `db` (the built-in database).
 pub fn policy(db: &Database) -> Result<Policy, PolicyError> {
     Policy::from_bytes(DEFAULT_POLICY, db)
+}
+
+/// The built-in character: [`database`] played by [`policy`], with default playback.
+pub fn animation() -> Result<Animation, String> {
+    let db = database().map_err(|e| e.to_string())?;
+    let policy = policy(&db).map_err(|e| e.to_string())?;
+    Ok(Animation::new(db, policy))
+}
+
+/// The layered controller of [`DEFAULT_RULES`] with default parameters (what the rules print
+/// goes nowhere).
+pub fn controller() -> Result<LayeredController, String> {
+    let engines = fuzzy_api::load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &ScriptLog::new())
+        .map_err(|e| e.to_string())?;
+    LayeredController::new(&engines, ControllerParams::default())
 }

@@ -4,15 +4,11 @@
 
 use glam::DVec2;
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, fuzzy_api};
-use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+use strider::sim::{LayeredController, Simulation, StepParameters};
 use strider::world::{Obstacle, ObstacleShape, Pose, Task};
 
 fn controller() -> LayeredController {
-    let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &ScriptLog::new())
-            .unwrap();
-    LayeredController::new(&engines, ControllerParams::default()).unwrap()
+    strider::builtin::controller().expect("built-in rules")
 }
 
 fn task(from: (f64, f64), yaw: f64, to: (f64, f64)) -> Task {

@@ -6,18 +6,11 @@ use std::process::{Command, Output};
 use strider::experiment::{self, Job};
 use strider::maps::generate::{Density, random_world};
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
-use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+use strider::script::{Limits, ScriptLog, map_api};
+use strider::sim::{LayeredController, Simulation, StepParameters};
 
 fn controller() -> LayeredController {
-    let engines = fuzzy_api::load_engines(
-        include_str!("../scripts/nav.rhai"),
-        "scripts/nav.rhai",
-        Limits::default(),
-        &ScriptLog::new(),
-    )
-    .unwrap();
-    LayeredController::new(&engines, ControllerParams::default()).unwrap()
+    strider::builtin::controller().expect("built-in rules")
 }
 
 fn map(name: &str) -> Scenario {
@@ -48,9 +41,7 @@ fn shipped_maps_are_solved_without_collisions() {
 
 /// Both bodies: the disc and the animated character the papers are about.
 fn bodies() -> [(&'static str, StepParameters); 2] {
-    let db = strider::builtin::database().unwrap();
-    let policy = strider::anim::policy::Policy::from_bytes(strider::builtin::DEFAULT_POLICY, &db).unwrap();
-    let anim = strider::sim::animated::Animation::new(db, policy);
+    let anim = strider::builtin::animation().unwrap();
     let animated = StepParameters {
         animation: Some(strider::sim::animated::AnimationHandle(std::sync::Arc::new(anim))),
         ..StepParameters::default()

@@ -131,27 +131,18 @@ mod character {
 
     use strider::experiment::run_episode;
     use strider::scenario::Scenario;
-    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
-    use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
+    use strider::script::{Limits, ScriptLog, map_api};
+    use strider::sim::{AnimationHandle, LayeredController, Simulation, StepParameters};
 
     fn params() -> StepParameters {
-        let db = strider::builtin::database().unwrap();
-        let policy = strider::builtin::policy(&db).unwrap();
         StepParameters {
-            animation: Some(AnimationHandle(Arc::new(Animation::new(db, policy)))),
+            animation: Some(AnimationHandle(Arc::new(strider::builtin::animation().unwrap()))),
             ..StepParameters::default()
         }
     }
 
     fn controller() -> LayeredController {
-        let engines = fuzzy_api::load_engines(
-            include_str!("../scripts/nav.rhai"),
-            "nav.rhai",
-            Limits::default(),
-            &ScriptLog::new(),
-        )
-        .unwrap();
-        LayeredController::new(&engines, ControllerParams::default()).unwrap()
+        strider::builtin::controller().expect("built-in rules")
     }
 
     fn map(src: &str, name: &str) -> Scenario {
