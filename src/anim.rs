@@ -15,6 +15,7 @@ pub mod policy;
 pub mod procedural;
 pub mod rig;
 pub mod skeleton;
+pub mod warp;
 
 pub use clip::{Clip, Ground, mirror_pairs, mirror_rotation};
 pub use db::{Database, DbError, DbParams, IntervalSpec};

@@ -44,7 +44,7 @@ use glam::DVec2;
 use rand_chacha::ChaCha8Rng;
 use rand_core::RngCore;
 
-use crate::anim::player::{Player, PlayerParams, SwitchPoint};
+use crate::anim::player::{Choice, Player, PlayerParams, SwitchPoint};
 use crate::anim::{Database, Ground};
 use crate::geom::wrap_angle;
 use crate::world::{Task, World};
@@ -302,7 +302,7 @@ impl PureRl {
             decisions += 1;
             let before = DVec2::new(at.ground.x, at.ground.y).distance(task.goal);
             path.clear();
-            at.path(db, action, &mut path);
+            at.path(db, Choice::from(action), &mut path);
             let mut outcome = None;
             for &q in &path {
                 if !world.is_free(q, p.radius, &mut scratch) {
@@ -315,7 +315,7 @@ impl PureRl {
                 }
             }
             let interval = db.candidates[at.ending][action].interval;
-            let next = at.then(db, action);
+            let next = at.then(db, Choice::from(action));
             let after = DVec2::new(next.ground.x, next.ground.y).distance(task.goal);
             let reward = match outcome {
                 Some(Ending::Collided) => p.collision_reward,

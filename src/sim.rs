@@ -407,7 +407,10 @@ impl Simulation {
                     Some(f) if f < range => f,
                     _ => f64::INFINITY,
                 };
-                if let Some(aim) = agent.memory.heading(pose.position, sight) {
+                let world = &self.world;
+                let scratch = &mut self.scratch;
+                let span = |p: DVec2, d: DVec2| world.ray_cast(p, d, range, scratch).unwrap_or(f64::INFINITY);
+                if let Some(aim) = agent.memory.heading_with(pose.position, sight, span) {
                     agent.heading_to_goal = aim.heading;
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;

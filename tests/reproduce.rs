@@ -47,8 +47,8 @@ fn the_pure_rl_planner_learns_deterministically_to_reach_goals_past_an_obstacle(
     };
     let mut untrained = PureRl::new(params);
     let before = success(&mut untrained, &db, &world, &held_out);
-    let mut a = train(4000);
-    let mut b = train(4000);
+    let mut a = train(6000);
+    let mut b = train(6000);
     assert_eq!(a.stored_entries(), b.stored_entries());
     let after = success(&mut a, &db, &world, &held_out);
     assert_eq!(after, success(&mut b, &db, &world, &held_out), "same seed, same policy");

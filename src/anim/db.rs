@@ -137,8 +137,12 @@ pub const REST_SPEED_MPS: f64 = 0.05;
 pub const REST_WINDOW_S: f64 = 0.15;
 /// A heading change over an in-place interval of at least this is a turn on the spot, radians.
 pub const SPOT_TURN_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+/// Smallest heading change of a moving interval that counts as a sharp turn, radians (40°).
+pub const SHARP_TURN_RAD: f64 = 40.0 * std::f64::consts::PI / 180.0;
 /// Largest spacing of the root-path points kept for clearance checks, metres.
 pub const SWEEP_SPACING_M: f64 = 0.1;
+/// Largest heading change between two kept points, radians (5°).
+pub const SWEEP_TURN_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 /// Largest distance of the root path from the chord between two kept points, metres.
 pub const SWEEP_DEVIATION_M: f64 = 0.002;
 /// Largest Eq. 2 distance between an interval's mirror image and another interval for the two
@@ -162,6 +166,9 @@ pub struct IntervalKind {
     pub stops: bool,
     /// Gets going: the root moves at least [`IN_PLACE_M`] from where it started.
     pub goes: bool,
+    /// Turns sharply while moving: not in place, heading change at least [`SHARP_TURN_RAD`];
+    /// +1 left, −1 right, 0 not a sharp turn.
+    pub sharp_turn: i8,
 }
 
 impl IntervalKind {
@@ -304,6 +311,8 @@ pub struct Database {
     tracks: Vec<Vec<Ground>>,
     /// Contact bits of every frame of every clip ([`detect_contacts`]).
     contacts: Vec<Vec<u8>>,
+    /// Per clip and frame: frames so far in which no foot stands flat ([`turn_freedom`]).
+    freedom: Vec<Vec<f64>>,
     /// Per interval, clip frames after its start whose root positions are at most
     /// [`SWEEP_SPACING_M`] apart, ending with its last frame.
     sweep_frames: Vec<Vec<usize>>,
@@ -646,7 +655,10 @@ impl Database {
             let path: f64 = (s..e).map(|f| at(f).distance(at(f + 1))).sum();
             // Keep a frame when going on to the next would stretch the chord from the last kept
             // point beyond the spacing, or let the path between them stray from that chord by
-            // more than [`SWEEP_DEVIATION_M`] (loops of turning on the spot).
+            // more than [`SWEEP_DEVIATION_M`] (loops of turning on the spot), or turn the heading
+            // more than [`SWEEP_TURN_RAD`] (a warped interval turns each piece by its own); and
+            // keep the frames where a foot comes to stand flat or leaves it (a warp's bend
+            // turns only while none does, `bend_share`).
             let mut sweep = Vec::new();
             let mut last = s;
             for f in s + 1..=e {
@@ -663,7 +675,14 @@ impl Database {
                         p.distance(a + ab * t) > SWEEP_DEVIATION_M
                     })
                 };
-                if f == e || at(f + 1).distance(at(last)) > SWEEP_SPACING_M || stray(f + 1) {
+                let turned = |to: usize| crate::geom::wrap_angle(track[to].yaw - track[last].yaw).abs();
+                let free = |j: usize| no_foot_flat(contacts[ci][j]);
+                if f == e
+                    || at(f + 1).distance(at(last)) > SWEEP_SPACING_M
+                    || turned(f + 1) > SWEEP_TURN_RAD
+                    || free(f + 1) != free(f)
+                    || stray(f + 1)
+                {
                     sweep.push(f);
                     last = f;
                 }
@@ -708,6 +727,7 @@ impl Database {
             forward_offset: forward,
             samples,
             tracks,
+            freedom: contacts.iter().map(|c| turn_freedom(c)).collect(),
             contacts,
             sweep_frames,
             ends: Vec::new(),
@@ -801,6 +821,7 @@ impl Database {
         let far = (iv.start..=iv.end).map(|f| (track[f].x - g0.x).hypot(track[f].y - g0.y)).fold(0.0, f64::max);
         let in_place = far < IN_PLACE_M;
         let spot_turn = if in_place && iv.turn().abs() >= SPOT_TURN_RAD { iv.turn().signum() as i8 } else { 0 };
+        let sharp_turn = if !in_place && iv.turn().abs() >= SHARP_TURN_RAD { iv.turn().signum() as i8 } else { 0 };
         let ends_at_rest = rest(i);
         let moving = |j: usize| {
             let jv = &self.intervals[j];
@@ -813,6 +834,7 @@ impl Database {
             spot_turn,
             stops: ends_at_rest || rest(self.successor[i]),
             goes: moving(i),
+            sharp_turn,
         }
     }
 
@@ -903,9 +925,9 @@ impl Database {
     }
 
     /// The candidates after every interval: its successor, the successor's neighbours, and —
-    /// where none of those stops, turns on the spot to one side, or gets going — the interval
-    /// nearest to the successor (Eq. 2) that does, with the mirror of anything added to a
-    /// symmetric interval.
+    /// where none of those stops, turns on the spot to one side, gets going, or (after a moving
+    /// interval) turns sharply to one side while moving — the interval nearest to the successor
+    /// (Eq. 2) that does, with the mirror of anything added to a symmetric interval.
     /// Mirror pairs get mirrored lists in the same order.
     fn build_candidates(&self) -> Vec<Vec<Candidate>> {
         let n = self.intervals.len();
@@ -923,9 +945,19 @@ impl Database {
             let s = self.successor[i];
             let mut c = vec![(s, 0.0)];
             c.extend(self.neighbours[s].iter().copied());
-            let wants: [&dyn Fn(&IntervalKind) -> bool; 4] =
-                [&|k| k.stops || k.in_place, &|k| k.spot_turn > 0, &|k| k.spot_turn < 0, &|k| k.goes];
-            for want in wants {
+            let wants: [&dyn Fn(&IntervalKind) -> bool; 6] = [
+                &|k| k.stops || k.in_place,
+                &|k| k.spot_turn > 0,
+                &|k| k.spot_turn < 0,
+                &|k| k.goes,
+                &|k| k.sharp_turn > 0,
+                &|k| k.sharp_turn < 0,
+            ];
+            let moving = self.kinds[i].goes;
+            for (w, want) in wants.into_iter().enumerate() {
+                if w >= 4 && !moving {
+                    continue;
+                }
                 if !c.iter().any(|&(j, _)| want(&self.kinds[j]))
                     && let Some((j, d)) = nearest_where(s, want)
                 {
@@ -1120,6 +1152,29 @@ impl Database {
         c[i]
     }
 
+    /// The share of interval `i`'s turning freedom between its clip frames `a` and `b` (within
+    /// it): how much of a bend added to the interval turns there. A bend turns the body while
+    /// no foot stands flat (on its heel, on its toe, or in the air), as the clips themselves
+    /// turn, so planted feet pivot on a point instead of sliding; an interval with no such
+    /// frame spreads it over its time.
+    pub fn bend_share(&self, i: usize, a: f64, b: f64) -> f64 {
+        let iv = &self.intervals[i];
+        let c = &self.freedom[iv.clip];
+        let at = |f: f64| {
+            let f = f.clamp(iv.start as f64, iv.end as f64);
+            let j = (f.floor() as usize).min(c.len() - 1);
+            let t = f - j as f64;
+            c[j] + (c[(j + 1).min(c.len() - 1)] - c[j]) * t
+        };
+        let total = at(iv.end as f64) - at(iv.start as f64);
+        if total >= 1.0 {
+            (at(b) - at(a)) / total
+        } else {
+            (b.clamp(iv.start as f64, iv.end as f64) - a.clamp(iv.start as f64, iv.end as f64))
+                / (iv.end - iv.start).max(1) as f64
+        }
+    }
+
     /// Clip frames of interval `i` after its start whose root positions are at most
     /// [`SWEEP_SPACING_M`] apart, with the path between two of them within
     /// [`SWEEP_DEVIATION_M`] of the segment joining them, ending with its last frame: the points
@@ -1151,6 +1206,26 @@ impl Database {
     pub fn max_speed(&self) -> f64 {
         self.intervals.iter().map(|i| i.speed).fold(0.0, f64::max)
     }
+}
+
+/// No foot stands flat (heel and toe both on the ground) by the contact bits `bits`.
+fn no_foot_flat(bits: u8) -> bool {
+    !(0..2).any(|f| bits & contact_bit(f, 0) != 0 && bits & contact_bit(f, 1) != 0)
+}
+
+/// The running count of frames in which no foot stands flat (heel and toe both on the ground),
+/// from a clip's contact bits: `out[j]` counts the frame pairs before frame `j`, a pair counting
+/// by the share of its two frames that are free.
+fn turn_freedom(contacts: &[u8]) -> Vec<f64> {
+    let free = |bits: u8| if no_foot_flat(bits) { 1.0 } else { 0.0 };
+    let mut out = Vec::with_capacity(contacts.len());
+    let mut sum = 0.0;
+    out.push(0.0);
+    for w in contacts.windows(2) {
+        sum += 0.5 * (free(w[0]) + free(w[1]));
+        out.push(sum);
+    }
+    out
 }
 
 /// FNV-1a, 64 bits.

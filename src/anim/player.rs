@@ -28,6 +28,7 @@ use glam::{DQuat, DVec2, DVec3};
 use super::clip::Ground;
 use super::db::{Database, contact_bit, point_positions};
 use super::skeleton::Pose;
+use super::warp::{Warp, WarpLimits};
 use crate::geom::{smoothstep, wrap_angle};
 
 /// How one interval hands over to the next.
@@ -167,6 +168,10 @@ struct Source {
     span: f64,
     /// Ground of the source clip at `frame` (clip coordinates).
     ground: Ground,
+    /// The warp the source played with.
+    warp: Warp,
+    /// The interval the source was playing (its frames may run past its end).
+    interval: usize,
 }
 
 /// Root motion of a playback: the interval playing, where in it, the character's ground
@@ -181,18 +186,28 @@ pub struct RootMotion {
     /// The character's ground reference in the world.
     world: Ground,
     source: Option<Source>,
+    /// The warp of the interval playing.
+    warp: Warp,
 }
 
 impl RootMotion {
     /// Starts interval `next` right here (this frame, clip ground and world reference are the
     /// switch point): the clip playing becomes the source of a cross-fade of `blend_s` seconds
-    /// (with 0, any blend still running goes on).
-    fn begin(&mut self, db: &Database, next: usize, blend_s: f64) {
+    /// (with 0, any blend still running goes on); `next` plays with `warp`.
+    fn begin(&mut self, db: &Database, next: usize, blend_s: f64, warp: Warp) {
         if blend_s > 0.0 {
             let clip = db.intervals[self.interval].clip;
-            self.source =
-                Some(Source { clip, frame: self.frame, elapsed: 0.0, span: blend_s, ground: self.clip_ground });
+            self.source = Some(Source {
+                clip,
+                frame: self.frame,
+                elapsed: 0.0,
+                span: blend_s,
+                ground: self.clip_ground,
+                warp: self.warp,
+                interval: self.interval,
+            });
         }
+        self.warp = warp;
         let nv = &db.intervals[next];
         self.interval = next;
         self.frame = nv.start as f64;
@@ -204,24 +219,25 @@ impl RootMotion {
     fn advance_by(&mut self, db: &Database, dt: f64) {
         let iv = &db.intervals[self.interval];
         let ft = db.clips[iv.clip].frame_time;
+        let before = self.frame;
         self.frame = (self.frame + dt / ft).min(iv.end as f64);
         let g = db.ground(iv.clip, self.frame);
-        let mut delta = self.clip_ground.to_local(g);
+        let share = db.bend_share(self.interval, before, self.frame);
+        let mut delta = self.warp.apply(self.clip_ground.to_local(g), share);
         self.clip_ground = g;
         if let Some(s) = &mut self.source {
             s.elapsed += dt;
             let sft = db.clips[s.clip].frame_time;
             let last = (db.clips[s.clip].frames.len() - 1) as f64;
+            let before = s.frame;
             s.frame = (s.frame + dt / sft).min(last);
             let sg = db.ground(s.clip, s.frame);
-            let sd = s.ground.to_local(sg);
+            let sd = s.warp.apply(s.ground.to_local(sg), db.bend_share(s.interval, before, s.frame));
             s.ground = sg;
+            // The travel blends; the heading turns as the destination turns, so an interval
+            // turns by its own (warped) yaw whatever it follows.
             let w = smoothstep((s.elapsed / s.span).min(1.0));
-            delta = Ground {
-                x: sd.x + (delta.x - sd.x) * w,
-                y: sd.y + (delta.y - sd.y) * w,
-                yaw: sd.yaw + wrap_angle(delta.yaw - sd.yaw) * w,
-            };
+            delta = Ground { x: sd.x + (delta.x - sd.x) * w, y: sd.y + (delta.y - sd.y) * w, yaw: delta.yaw };
             if s.elapsed >= s.span {
                 self.source = None;
             }
@@ -236,7 +252,7 @@ impl RootMotion {
         &mut self,
         db: &Database,
         h: f64,
-        switch: &mut dyn FnMut(&RootMotion) -> (usize, f64),
+        switch: &mut dyn FnMut(&RootMotion) -> (usize, f64, Warp),
     ) -> Option<(usize, usize)> {
         let iv = &db.intervals[self.interval];
         let ft = db.clips[iv.clip].frame_time;
@@ -247,8 +263,8 @@ impl RootMotion {
         let to_end = ((iv.end as f64 - self.frame) * ft).clamp(0.0, h);
         self.advance_by(db, to_end);
         let ending = self.interval;
-        let (next, blend_s) = switch(self);
-        self.begin(db, next, blend_s);
+        let (next, blend_s, warp) = switch(self);
+        self.begin(db, next, blend_s, warp);
         if h - to_end > 0.0 {
             self.advance_by(db, h - to_end);
         }
@@ -294,10 +310,13 @@ impl RootMotion {
             }
         }
         let iv = &db.intervals[self.interval];
+        let (mut world, mut at, mut frame) = (self.world, self.clip_ground, self.frame);
         for &f in db.sweep_frames(self.interval) {
-            if (f as f64) > self.frame + 1e-9 {
-                let g = self.world.then(self.clip_ground.to_local(db.ground(iv.clip, f as f64)));
-                out.push(DVec2::new(g.x, g.y));
+            if (f as f64) > frame + 1e-9 {
+                let g = db.ground(iv.clip, f as f64);
+                world = world.then(self.warp.apply(at.to_local(g), db.bend_share(self.interval, frame, f as f64)));
+                (at, frame) = (g, f as f64);
+                out.push(DVec2::new(world.x, world.y));
             }
         }
     }
@@ -322,10 +341,24 @@ pub struct SwitchPoint {
 }
 
 impl SwitchPoint {
-    fn started(&self, db: &Database, choice: usize) -> RootMotion {
+    /// The warp of the interval ending here.
+    pub fn warp(&self) -> Warp {
+        self.root.warp
+    }
+
+    /// The warp that brings candidate `choice` started here closest to turning by `direction`
+    /// radians (the desired heading less the heading here) at `speed` m/s, within `limits`
+    /// ([`Warp::toward`]).
+    pub fn warp_toward(&self, db: &Database, choice: usize, direction: f64, speed: f64, limits: &WarpLimits) -> Warp {
+        let next = db.candidates[self.ending][choice].interval;
+        Warp::toward(&db.intervals[next], db.kinds[next], direction, speed, limits)
+    }
+
+    fn started(&self, db: &Database, choice: Choice) -> RootMotion {
+        let (choice, warp) = (choice.candidate, choice.warp);
         let c = &db.candidates[self.ending][choice];
         let mut r = self.root;
-        r.begin(db, c.interval, if c.seamless && !self.early { 0.0 } else { self.blend_s });
+        r.begin(db, c.interval, if c.seamless && !self.early { 0.0 } else { self.blend_s }, warp);
         r
     }
 
@@ -333,7 +366,7 @@ impl SwitchPoint {
     /// `db.candidates[self.ending]`) starts here: the switch point first, then points at most
     /// about [`super::db::SWEEP_SPACING_M`] apart to its end, the cross-fade included — the
     /// path playback would take.
-    pub fn path(&self, db: &Database, choice: usize, out: &mut Vec<DVec2>) {
+    pub fn path(&self, db: &Database, choice: Choice, out: &mut Vec<DVec2>) {
         self.started(db, choice).path(db, self.h, out);
     }
 
@@ -344,7 +377,7 @@ impl SwitchPoint {
     /// mean turn and at its mean speed or `min_speed` if faster (the character may walk on
     /// faster after a slow interval) — the motion the upper-body planner looks ahead over.
     /// Returns how many of the poses lie within the interval.
-    pub fn poses(&self, db: &Database, choice: usize, extra_s: f64, min_speed: f64, out: &mut Vec<Pose>) -> usize {
+    pub fn poses(&self, db: &Database, choice: Choice, extra_s: f64, min_speed: f64, out: &mut Vec<Pose>) -> usize {
         let mut root = self.started(db, choice);
         let iv = &db.intervals[root.interval];
         let ft = db.clips[iv.clip].frame_time;
@@ -366,7 +399,7 @@ impl SwitchPoint {
             let last = pose_of(&root);
             let (a, b) = (db.ground(iv.clip, iv.start as f64), db.ground(iv.clip, end));
             let span = (end - iv.start as f64) * ft;
-            let mut d = a.to_local(b);
+            let mut d = root.warp.apply(a.to_local(b), 1.0);
             let rate = if span > 0.0 { 1.0 / span } else { 0.0 };
             let length = d.x.hypot(d.y);
             let at_least = min_speed.max(0.0) * span;
@@ -386,7 +419,7 @@ impl SwitchPoint {
 
     /// The switch point at the end of candidate `choice` started here: where the next choice
     /// after it would be made, with any blend still running.
-    pub fn then(&self, db: &Database, choice: usize) -> SwitchPoint {
+    pub fn then(&self, db: &Database, choice: Choice) -> SwitchPoint {
         let mut root = self.started(db, choice);
         let iv = &db.intervals[root.interval];
         let ft = db.clips[iv.clip].frame_time;
@@ -434,19 +467,35 @@ fn planted_at(feet: &super::db::FeetAt, g: Ground) -> [Option<(usize, DVec2)>; 2
     })
 }
 
-/// What the player decides at a switch point: the index of the candidate (in
-/// `db.candidates[at.ending]`) to play next.
+/// A decision at a switch point: the candidate to play next (an index into
+/// `db.candidates[at.ending]`) and the warp it plays with.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Choice {
+    /// Index of the candidate.
+    pub candidate: usize,
+    /// Its warp.
+    pub warp: Warp,
+}
+
+impl From<usize> for Choice {
+    /// Candidate `candidate` as recorded.
+    fn from(candidate: usize) -> Choice {
+        Choice { candidate, warp: Warp::NONE }
+    }
+}
+
+/// What the player decides at a switch point.
 pub trait Chooser {
-    /// Picks a candidate.
-    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize;
+    /// Picks a candidate and its warp.
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> Choice;
 }
 
 /// Always the natural successor.
 pub struct Natural;
 
 impl Chooser for Natural {
-    fn choose(&mut self, _: &Database, _: &SwitchPoint) -> usize {
-        0
+    fn choose(&mut self, _: &Database, _: &SwitchPoint) -> Choice {
+        Choice::from(0)
     }
 }
 
@@ -526,6 +575,7 @@ impl Player {
                 clip_ground: db.ground(iv.clip, iv.start as f64),
                 world: at,
                 source: None,
+                warp: Warp::NONE,
             },
             inertial: None,
             pose: rel.clone(),
@@ -548,6 +598,24 @@ impl Player {
     /// The interval playing.
     pub fn interval(&self) -> usize {
         self.root.interval
+    }
+
+    /// The warp of the interval playing.
+    pub fn warp(&self) -> Warp {
+        self.root.warp
+    }
+
+    /// Plays the rest of the interval playing with `warp` instead (what is played stays).
+    pub fn rewarp(&mut self, warp: Warp) {
+        self.root.warp = warp;
+    }
+
+    /// Appends to `out` the world path of the root over the rest of the interval playing if it
+    /// went on with `warp` (see [`SwitchPoint::path`]).
+    pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) {
+        let mut root = self.root;
+        root.warp = warp;
+        root.path(db, 1.0 / self.params.frame_rate, out);
     }
 
     /// Seconds into the interval playing.
@@ -629,9 +697,9 @@ impl Player {
 
     /// Cuts the interval playing short and starts candidate `choice` of it now, with the short
     /// blend of an early switch. Planted feet stay locked.
-    pub fn switch_now(&mut self, db: &Database, choice: usize) {
+    pub fn switch_now(&mut self, db: &Database, choice: Choice) {
         let ending = self.root.interval;
-        let c = db.candidates[ending][choice.min(db.candidates[ending].len() - 1)];
+        let c = db.candidates[ending][choice.candidate.min(db.candidates[ending].len() - 1)];
         let src = self.rel.clone();
         let src_next = {
             let iv = &db.intervals[ending];
@@ -642,7 +710,7 @@ impl Player {
         self.metrics.early_switches += 1;
         self.metrics.switches += 1;
         let blend = self.blend_time(true);
-        self.root.begin(db, c.interval, blend);
+        self.root.begin(db, c.interval, blend, choice.warp);
         self.transition(db, c.interval, &src, &src_next);
         self.refresh_pose(db);
         self.compose(db);
@@ -673,9 +741,10 @@ impl Player {
                 h,
             };
             let cands = &db.candidates[root.interval];
-            let c = cands[chooser.choose(db, &point).min(cands.len() - 1)];
+            let choice = chooser.choose(db, &point);
+            let c = cands[choice.candidate.min(cands.len() - 1)];
             seamless = c.seamless;
-            (c.interval, if c.seamless { 0.0 } else { blend_s })
+            (c.interval, if c.seamless { 0.0 } else { blend_s }, choice.warp)
         });
         if let Some((ending, next)) = switched {
             self.metrics.switches += 1;
@@ -773,9 +842,9 @@ impl Player {
             let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
             let height = |k: usize| pts[k].z - db.point_floor[f][k];
             let (heel, toe) = (pts[0], pts[1]);
+            let lock = &mut self.locks[f];
             let along = (toe - heel).truncate();
             let yaw = along.y.atan2(along.x);
-            let lock = &mut self.locks[f];
             // A turn of the planted foot: pivot on the toe with the heel lifted, as a person
             // does (the actor's hip cannot turn the foot on the ground).
             let mut lift = None;

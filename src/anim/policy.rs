@@ -26,6 +26,7 @@
 use rand_chacha::ChaCha8Rng;
 
 use super::db::{Database, Fnv};
+use super::warp::{Warp, WarpLimits};
 use crate::geom::wrap_angle;
 use crate::rng;
 
@@ -127,6 +128,9 @@ pub struct LearnParams {
     pub planner_turn: f64,
     /// Share of tasks sampled over the whole database's speed range instead (user control) (0.25).
     pub wide_tasks: f64,
+    /// How far each interval may be warped toward the command ([`WarpLimits::default`]); the
+    /// model and playback warp alike.
+    pub warp: WarpLimits,
 }
 
 /// Share of tasks that command a heading change (a direction error, no turn rate) rather than
@@ -157,6 +161,7 @@ impl Default for LearnParams {
             planner_speed: 1.5,
             planner_turn: 120f64.to_radians(),
             wide_tasks: 0.25,
+            warp: WarpLimits::default(),
         }
     }
 }
@@ -179,15 +184,18 @@ pub struct Errors {
     pub direction: f64,
 }
 
-/// The deterministic transition: the errors after playing interval `a` under `task`, starting
-/// with direction error `direction`.
-pub fn transition(db: &Database, a: usize, direction: f64, task: Task) -> Errors {
+/// The deterministic transition: the warp interval `a` plays with under `task`, starting with
+/// direction error `direction` (toward the desired heading at its end, within `limits`), and
+/// the errors after it.
+pub fn transition(db: &Database, a: usize, direction: f64, task: Task, limits: &WarpLimits) -> (Warp, Errors) {
     let iv = &db.intervals[a];
-    Errors {
-        speed: task.speed - iv.speed,
-        direction: (direction + task.turn_rate * iv.duration - iv.turn())
-            .clamp(-std::f64::consts::PI, std::f64::consts::PI),
-    }
+    let wanted = direction + task.turn_rate * iv.duration;
+    let warp = Warp::toward(iv, db.kinds[a], wanted, task.speed, limits);
+    let errors = Errors {
+        speed: task.speed - warp.speed(iv),
+        direction: (wanted - warp.turn(iv)).clamp(-std::f64::consts::PI, std::f64::consts::PI),
+    };
+    (warp, errors)
 }
 
 /// How well the motion after an interval meets the command, `T` in `[0, 1]`: 1 with no error.
@@ -209,8 +217,8 @@ pub fn task_score(e: Errors, speed: f64, p: &LearnParams) -> f64 {
 /// `direction` under `task`, and the errors it leads to.
 pub fn reward(db: &Database, p: &LearnParams, i: usize, a: usize, direction: f64, task: Task) -> (f64, Errors) {
     let c = &db.candidates[i][a];
-    let next = transition(db, c.interval, direction, task);
-    (p.alpha * c.weight + p.beta * task_score(next, db.intervals[c.interval].speed, p), next)
+    let (warp, next) = transition(db, c.interval, direction, task, &p.warp);
+    (p.alpha * c.weight + p.beta * task_score(next, warp.speed(&db.intervals[c.interval]), p), next)
 }
 
 /// How the next interval is picked at a switch point.
@@ -273,7 +281,7 @@ pub enum PolicyError {
 }
 
 /// File format version written by [`Policy::to_bytes`].
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 
 /// Most training episodes a policy may count (about 10¹²: years of training at the rates
 /// `strider train` reaches).
@@ -675,8 +683,10 @@ impl Policy {
             e = targets[a].1;
             interval = db.candidates[interval][a].interval;
             if rng::unit(&mut rng) < p.task_change {
+                // The interval playing keeps the speed its warp gave it.
+                let played = task.speed - e.speed;
                 task = sample_task(db, &p, &mut rng);
-                e.speed = task.speed - db.intervals[interval].speed;
+                e.speed = task.speed - played;
                 if task.turn_rate == 0.0 {
                     e.direction = rng::uniform(&mut rng, -std::f64::consts::PI, std::f64::consts::PI);
                 }
@@ -747,6 +757,14 @@ impl Policy {
             p.planner_turn,
             p.wide_tasks,
             p.heading_weight,
+            p.warp.turn_scale.0,
+            p.warp.turn_scale.1,
+            p.warp.spot_scale.0,
+            p.warp.spot_scale.1,
+            p.warp.bend_rad,
+            p.warp.stride.0,
+            p.warp.stride.1,
+            p.warp.min_speed_mps,
         ] {
             b.extend_from_slice(&v.to_le_bytes());
         }
@@ -800,7 +818,7 @@ impl Policy {
         {
             return Err(PolicyError::Malformed("state grid"));
         }
-        let mut v = [0.0; 12];
+        let mut v = [0.0; 20];
         for x in &mut v {
             *x = r.f64()?;
         }
@@ -821,8 +839,18 @@ impl Policy {
             planner_turn: v[9],
             wide_tasks: v[10],
             heading_weight: v[11],
+            warp: WarpLimits {
+                turn_scale: (v[12], v[13]),
+                spot_scale: (v[14], v[15]),
+                bend_rad: v[16],
+                stride: (v[17], v[18]),
+                min_speed_mps: v[19],
+            },
             episode_length,
         };
+        if !params.warp.valid() {
+            return Err(PolicyError::Malformed("warp limits"));
+        }
         let expected = db.fingerprint();
         if fingerprint != expected {
             return Err(PolicyError::Mismatch { expected, found: fingerprint });
@@ -985,8 +1013,10 @@ pub fn evaluate(db: &Database, policy: &Policy, strategy: Strategy, episodes: u6
             if rng::unit(&mut rng) < p.task_change {
                 tasks += 1;
                 met += u64::from(on_command(e));
+                // The interval playing keeps the speed its warp gave it.
+                let played = task.speed - e.speed;
                 task = sample_task(db, p, &mut rng);
-                e.speed = task.speed - db.intervals[interval].speed;
+                e.speed = task.speed - played;
                 if task.turn_rate == 0.0 {
                     e.direction = rng::uniform(&mut rng, -std::f64::consts::PI, std::f64::consts::PI);
                 }
@@ -1065,7 +1095,8 @@ mod tests {
         };
         assert!(rewrite(28, &ROUND.to_le_bytes()).is_ok());
         assert_eq!(rewrite(28, &u64::MAX.to_le_bytes()).unwrap_err(), PolicyError::Malformed("episode count"));
-        assert_eq!(rewrite(148, &(1u32 << 16).to_le_bytes()).unwrap_err(), PolicyError::Malformed("episode length"));
+        assert_eq!(rewrite(212, &(1u32 << 16).to_le_bytes()).unwrap_err(), PolicyError::Malformed("episode length"));
+        assert_eq!(rewrite(148, &(-1.0f64).to_le_bytes()).unwrap_err(), PolicyError::Malformed("warp limits"));
     }
 
     #[test]
@@ -1096,11 +1127,13 @@ mod tests {
             let other = score(s);
             assert!(learnt.mean_return > 1.1 * other.mean_return, "{learnt:?} vs {s:?} {other:?}");
         }
-        // This small database turns less per interval than a sampled state is wide, so the
-        // learnt values add little to the reward of the next interval: within 0.5 % of greedy
-        // (the built-in database's policy must beat it outright; see tests/anim.rs).
+        // This small database turns less per interval than a sampled state is wide, and warping
+        // brings most tasks within reach of one interval, so the learnt values (read at the
+        // nearest sampled state) add little to the exact reward of the next interval: within
+        // 1.5 % of greedy (the built-in database's policy must beat it outright; see
+        // tests/anim.rs).
         let greedy = score(Strategy::Greedy);
-        assert!(learnt.mean_return >= 0.995 * greedy.mean_return, "{learnt:?} vs greedy {greedy:?}");
+        assert!(learnt.mean_return >= 0.985 * greedy.mean_return, "{learnt:?} vs greedy {greedy:?}");
         assert!(p.visited_states() > 0);
         assert_eq!(p.untouched_share(), 0.0);
     }

@@ -28,8 +28,9 @@ use rand_chacha::ChaCha8Rng;
 use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
 use super::footing::Footing;
 use super::upper_body::UpperBodyState;
-use crate::anim::player::{Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
+use crate::anim::player::{Choice, Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
 use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
+use crate::anim::warp::Warp;
 use crate::anim::{Database, Ground};
 use crate::geom::wrap_angle;
 use crate::world::Pose;
@@ -254,6 +255,13 @@ enum Eligibility {
 /// from this stance).
 pub const LOCK_REACH_M: f64 = 0.2;
 
+/// Room the heel and toe of a landing foot keep from obstacles, metres (about half a foot's
+/// width).
+pub const FOOT_ROOM_M: f64 = 0.05;
+
+/// Smallest change of the stride factor worth warping the rest of a step for.
+const RESTRIDE_STEP: f64 = 0.02;
+
 /// Allowance added to every clearance check of a sampled root path for the curve between its
 /// points, metres.
 const PATH_ALLOWANCE_M: f64 = 0.005;
@@ -261,6 +269,18 @@ const PATH_ALLOWANCE_M: f64 = 0.005;
 /// than past it, metres: its clips curve and sway, and it must be able to stop or turn round
 /// after every step (0.85 m in all; the narrowest corridor it walks is 0.84 m).
 const PASSAGE_SLACK_M: f64 = 0.075;
+
+/// Room the body keeps from obstacles whatever it plays, metres: a frame whose root would end
+/// closer than this, and closer than it is now, is not taken.
+pub const KEEP_ROOM_M: f64 = 0.02;
+
+/// A root moving from `from` to `to` keeps [`KEEP_ROOM_M`] (or, when it is already closer, gets
+/// no closer) — the last-resort guard of every played frame.
+fn keeps_room(space: &mut dyn Space, from: DVec2, to: DVec2, radius: f64) -> bool {
+    let want = radius + KEEP_ROOM_M;
+    let after = space.clearance(to, want + 1e-9);
+    after >= want || (is_free(space, to, radius) && after >= space.clearance(from, want + 1e-9))
+}
 
 /// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
 /// shifts over the feet).
@@ -294,9 +314,10 @@ impl LookAhead<'_> {
     /// not stop or turn round.
     fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
         let legs = self.eligible_for_legs(db, at, a, needs);
+        let choice = self.choice(db, at, a);
         match &mut self.upper {
             Some((u, _)) if legs == Eligibility::Clear => {
-                if u.admits(db, at, a, self.command.speed) {
+                if u.admits(db, at, choice, self.command.speed) {
                     legs
                 } else {
                     self.refused |= 1u64 << a.min(63);
@@ -307,6 +328,14 @@ impl LookAhead<'_> {
         }
     }
 
+    /// Candidate `a` at `at` with the warp that brings it nearest to the desired heading and the
+    /// commanded speed (the policy's model warps alike, [`crate::anim::policy::transition`]).
+    fn choice(&self, db: &Database, at: &SwitchPoint, a: usize) -> Choice {
+        let direction = wrap_angle(self.desired - at.ground.yaw);
+        let limits = &self.anim.policy.params.warp;
+        Choice { candidate: a, warp: at.warp_toward(db, a, direction, self.command.speed, limits) }
+    }
+
     /// [`LookAhead::eligible`] for the legs' disc alone.
     fn eligible_for_legs(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
         if at.reach_gap(db, a) > LOCK_REACH_M {
@@ -315,22 +344,27 @@ impl LookAhead<'_> {
         let next = db.candidates[at.ending][a].interval;
         let in_place = db.kinds[next].in_place;
         self.path.clear();
-        at.path(db, a, self.path);
+        let choice = self.choice(db, at, a);
+        at.path(db, choice, self.path);
         // Only a turn on the spot may give up some of the margin (to turn away from a wall).
         if !self.clear(if db.kinds[next].spot_turn != 0 { needs.1 } else { needs.0 }) {
+            return Eligibility::Blocked;
+        }
+        let then = at.then(db, choice);
+        if !self.feet_clear(db.feet_at(next, false), at.ground) || !self.feet_clear(db.feet_at(next, true), then.ground)
+        {
             return Eligibility::Blocked;
         }
         if in_place {
             return Eligibility::Clear;
         }
-        let then = at.then(db, a);
         for b in 0..db.candidates[next].len() {
             let kind = db.kinds[db.candidates[next][b].interval];
             if (kind.spot_turn == 0 && !kind.stops) || then.reach_gap(db, b) > LOCK_REACH_M {
                 continue;
             }
             self.path.clear();
-            then.path(db, b, self.path);
+            then.path(db, Choice::from(b), self.path);
             if self.clear(needs.1) {
                 return Eligibility::Clear;
             }
@@ -338,11 +372,23 @@ impl LookAhead<'_> {
         Eligibility::Blocked
     }
 
+    /// Both feet of a candidate's first or last frame (`feet`, placed on the ground reference
+    /// `at`) keep [`FOOT_ROOM_M`] from obstacles, heel and toe: a step never puts a foot
+    /// beside the body's disc into a wall (steps that turn or start place a foot well to the
+    /// side, and a cross-fade carries a swinging foot toward where the candidate starts it).
+    fn feet_clear(&mut self, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
+        feet.points.iter().flatten().all(|p| {
+            let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
+            self.space.clearance(DVec2::new(w.x, w.y), FOOT_ROOM_M) >= FOOT_ROOM_M
+        })
+    }
+
     /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
     /// clear).
     fn path_clearance(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> f64 {
         self.path.clear();
-        at.path(db, a, self.path);
+        let choice = self.choice(db, at, a);
+        at.path(db, choice, self.path);
         let far = self.radius + 1.0;
         match self.path.as_slice() {
             [] => far,
@@ -353,9 +399,9 @@ impl LookAhead<'_> {
 }
 
 impl Chooser for LookAhead<'_> {
-    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> usize {
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> Choice {
         let errors = Errors {
-            speed: self.command.speed - db.intervals[at.ending].speed,
+            speed: self.command.speed - at.warp().speed(&db.intervals[at.ending]),
             direction: wrap_angle(self.desired - at.ground.yaw),
         };
         // The desired heading already holds the commanded turn (re-aimed at every step): the
@@ -431,10 +477,11 @@ impl Chooser for LookAhead<'_> {
         // instead (turning on the spot is doing something about it).
         let kind = db.kinds[cands[a].interval];
         self.held = blocked && kind.in_place && kind.spot_turn == 0;
+        let choice = self.choice(db, at, a);
         if let Some((u, _)) = &mut self.upper {
-            u.end_choice(db, at, a);
+            u.end_choice(db, at, choice);
         }
-        a
+        choice
     }
 }
 
@@ -546,7 +593,7 @@ impl AnimatedBody {
     pub fn errors(&self) -> Errors {
         let db = &self.anim.db;
         Errors {
-            speed: self.command.speed - db.intervals[self.player.interval()].speed,
+            speed: self.command.speed - self.player.warp().speed(&db.intervals[self.player.interval()]),
             direction: wrap_angle(self.desired_heading - self.player.ground().yaw),
         }
     }
@@ -565,7 +612,7 @@ impl AnimatedBody {
     /// The choice the character would make now at the end of the interval playing, among the
     /// candidates there (an index into them): ranking and clearance checks through `space`, as
     /// at every switch point.
-    pub fn choose_next(&mut self, space: &mut dyn Space) -> usize {
+    pub fn choose_next(&mut self, space: &mut dyn Space) -> Choice {
         let anim = Arc::clone(&self.anim);
         let at = self.player.upcoming_switch(&anim.db);
         let mut chooser = LookAhead {
@@ -583,6 +630,39 @@ impl AnimatedBody {
             refused: 0,
         };
         chooser.choose(&anim.db, &at)
+    }
+
+    /// Stride warping within a step: when the commanded speed has changed since the interval
+    /// playing began, the rest of it plays with the stride that meets the new speed (within the
+    /// limits), if the path it then takes keeps the clearance the look-ahead keeps.
+    fn restride(&mut self, space: &mut dyn Space) {
+        let anim = Arc::clone(&self.anim);
+        let db = &anim.db;
+        let limits = &anim.policy.params.warp;
+        let i = self.player.interval();
+        let iv = &db.intervals[i];
+        let now = self.player.warp();
+        if db.kinds[i].in_place || iv.speed < limits.min_speed_mps {
+            return;
+        }
+        let stride = (self.command.speed / iv.speed).clamp(limits.stride.0, limits.stride.1);
+        if (stride - now.stride).abs() < RESTRIDE_STEP {
+            return;
+        }
+        let warp = Warp { stride, ..now };
+        self.path.clear();
+        self.player.remaining_path_with(db, warp, &mut self.path);
+        let g = self.player.ground();
+        let want = self.radius + anim.clearance_m;
+        let here = space.clearance(DVec2::new(g.x, g.y), want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M;
+        let need = here.min(want) + PATH_ALLOWANCE_M;
+        let clear = match self.path.as_slice() {
+            [] | [_] => true,
+            pts => pts.windows(2).all(|w| space.segment_clearance(w[0], w[1], need) >= need),
+        };
+        if clear {
+            self.player.rewarp(warp);
+        }
     }
 
     /// When the rest of the interval playing is no longer clear (something moved into it),
@@ -667,6 +747,7 @@ impl Body for AnimatedBody {
         if space.changes() {
             self.early_switch(space);
         }
+        self.restride(space);
         let frames = ((dt * self.player.params.frame_rate) + 1e-9).floor().max(1.0) as usize;
         let anim = Arc::clone(&self.anim);
         let mut outcome = StepOutcome::default();
@@ -717,7 +798,7 @@ impl Body for AnimatedBody {
             }
             let to = DVec2::new(now.x, now.y);
             let from = DVec2::new(prev.x, prev.y);
-            if to != from && !is_free(space, to, self.radius) {
+            if to != from && !keeps_room(space, from, to, self.radius) {
                 // Last resort: the root stays, the locked feet with it.
                 self.player.hold(&anim.db, Ground { yaw: now.yaw, ..prev });
                 outcome.blocked = true;

@@ -87,6 +87,18 @@ const AHEAD_MAX_M: f64 = 1.5;
 /// See [`AHEAD_MAX_M`].
 const AHEAD_MIN_M: f64 = 0.2;
 
+/// How far along the way ahead a narrow part is lined up for, metres.
+const LINE_UP_LOOK_M: f64 = 2.5;
+/// Length of the way past a gap's entry that gives its line, metres.
+const GAP_AXIS_M: f64 = 0.6;
+/// How far beyond its own projection on a gap's line the agent aims, metres.
+const PURSUIT_M: f64 = 0.6;
+/// Least cosine between the path's direction and the line through two measured middles for
+/// the latter to be the gap's line (30°).
+const SAME_LINE_COS: f64 = 0.866;
+/// Widest way across that counts as a gap to line up for, metres.
+const GAP_MEASURE_M: f64 = 2.0;
+
 /// Cells added around the known area when the grid grows.
 const GROW_CELLS: i64 = 40;
 
@@ -412,6 +424,18 @@ impl Memory {
     /// in sight is left. `None` when the goal cannot be reached over what is remembered (or
     /// the search gives up).
     pub fn heading(&mut self, from: DVec2, sight: impl Fn(f64) -> f64) -> Option<Aim> {
+        self.heading_with(from, sight, |_, _| f64::INFINITY)
+    }
+
+    /// [`Memory::heading`] with `span(p, unit)`, how far the way is free from `p` along `unit`
+    /// (the range sensor's measure; infinite when nothing is near), which puts the line a gap
+    /// is entered along through the middle of the gap as measured, not of the grid's cells.
+    pub fn heading_with(
+        &mut self,
+        from: DVec2,
+        sight: impl Fn(f64) -> f64,
+        span: impl FnMut(DVec2, DVec2) -> f64,
+    ) -> Option<Aim> {
         let near = self
             .path
             .iter()
@@ -466,7 +490,11 @@ impl Memory {
         }
         // A waypoint close by is circled rather than reached: keep the margin only while
         // that leaves one far enough ahead.
-        let waypoint = roomy.or(kept).or(clear).unwrap_or(self.path[0]);
+        let mut waypoint = roomy.or(kept).or(clear).unwrap_or(self.path[0]);
+        // A narrow part of the way ahead (a door, a corridor) is entered along its own line.
+        if let Some(p) = self.line_up(from, span) {
+            waypoint = p;
+        }
         let remaining: f64 =
             from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
         let to = waypoint - from;
@@ -475,6 +503,70 @@ impl Memory {
             return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() });
         }
         Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
+    }
+
+    /// The band of the margin the cell holding `p` lies in (0 outside it or off the grid).
+    fn depth_at(&self, p: DVec2) -> u8 {
+        let (i, j) = self.cell_of(p);
+        self.index(i, j).map_or(0, |c| self.cells[c] & BAND)
+    }
+
+    /// Where an agent at `from` steers for the narrow part of its way ahead (a door, a
+    /// corridor): the first point of the path within [`LINE_UP_LOOK_M`] whose cell lies in the
+    /// margin of remembered obstacles is the gap's entry (the agent's own spot when it is in
+    /// the gap already), the path over the next [`GAP_AXIS_M`] gives the gap's direction, and
+    /// `span` measures the way across the entry, which puts the gap's line through its middle.
+    /// The agent pursues that line: it aims at the point of the line [`PURSUIT_M`] beyond its
+    /// own projection on it, so it comes onto the line in front of the gap, along it, and
+    /// passes through the middle — steering continuously, never one way and then the other.
+    /// `None` when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is
+    /// not in clear sight over what is remembered.
+    fn line_up(&self, from: DVec2, mut span: impl FnMut(DVec2, DVec2) -> f64) -> Option<DVec2> {
+        let mut along = from.distance(self.path[0]);
+        let mut entry = None;
+        for (k, &p) in self.path.iter().enumerate() {
+            if k > 0 {
+                along += self.path[k - 1].distance(p);
+            }
+            if along > LINE_UP_LOOK_M {
+                break;
+            }
+            if self.depth_at(p) > 0 {
+                entry = Some(k);
+                break;
+            }
+        }
+        let k = entry?;
+        let e = self.path[k];
+        let mut axis_end = e;
+        let mut run = 0.0;
+        for w in self.path[k..].windows(2) {
+            run += w[0].distance(w[1]);
+            axis_end = w[1];
+            if run >= GAP_AXIS_M {
+                break;
+            }
+        }
+        let dir = (axis_end - e).normalize_or_zero();
+        if dir == DVec2::ZERO || run < 2.0 * self.params.cell_m {
+            return None;
+        }
+        // The middle of the gap as measured across it, at the entry and (in a corridor) a
+        // little further on: the line through both is the gap's, whatever cells the path takes.
+        let mut middle = |p: DVec2| {
+            let across = dir.perp();
+            let (l, r) = (span(p, across), span(p, -across));
+            (l + r < GAP_MEASURE_M).then(|| p + across * (0.5 * (l - r)))
+        };
+        let centre = middle(e)?;
+        let line = match middle(e + dir * GAP_AXIS_M) {
+            Some(further) if (further - centre).normalize_or_zero().dot(dir) > SAME_LINE_COS => {
+                (further - centre).normalize()
+            }
+            _ => dir,
+        };
+        let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
+        self.line_depth(from, target).map(|_| target)
     }
 
     /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its

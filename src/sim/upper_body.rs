@@ -15,7 +15,7 @@ use glam::DVec2;
 
 use super::footing::StopwatchHandle;
 use crate::anim::body::{Part, UpperBody, UpperConfig};
-use crate::anim::player::SwitchPoint;
+use crate::anim::player::{Choice, SwitchPoint};
 use crate::anim::{Database, Pose, Skeleton};
 use crate::geom::Capsule;
 use crate::upper::{LOOK_AHEAD_S, Plan, Refusal, Scratch, Solids, UpperPlanner};
@@ -65,7 +65,7 @@ pub struct UpperBodyState {
     h: f64,
     plan: Plan,
     next: Option<Plan>,
-    pending: Option<(usize, Plan)>,
+    pending: Option<(Choice, Plan)>,
     refused: Option<Refusal>,
     start: UpperConfig,
     speed: f64,
@@ -134,9 +134,9 @@ impl UpperBodyState {
         self.refused = None;
     }
 
-    /// Plans candidate `a` at `at` (looking ahead as if walking on at `speed` at least): true
+    /// Plans choice `a` at `at` (looking ahead as if walking on at `speed` at least): true
     /// when the upper body can play it.
-    pub fn admits(&mut self, db: &Database, at: &SwitchPoint, a: usize, speed: f64) -> bool {
+    pub fn admits(&mut self, db: &Database, at: &SwitchPoint, a: Choice, speed: f64) -> bool {
         self.speed = speed;
         match self.plan_for(db, at, a) {
             Ok(plan) => {
@@ -152,7 +152,7 @@ impl UpperBodyState {
 
     /// The choice `a` was made: its plan plays from the switch (holding the offsets when the
     /// upper body could not plan it, which only a character with nothing clear does).
-    pub fn end_choice(&mut self, db: &Database, at: &SwitchPoint, a: usize) {
+    pub fn end_choice(&mut self, db: &Database, at: &SwitchPoint, a: Choice) {
         if self.refused.is_some() {
             self.figures.refused_steps += 1;
         }
@@ -184,7 +184,7 @@ impl UpperBodyState {
         }
     }
 
-    fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> Result<Plan, Refusal> {
+    fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> Result<Plan, Refusal> {
         let started = self.clock.as_ref().map(|c| c.0.now_s());
         let own = at.poses(db, a, LOOK_AHEAD_S, self.speed, &mut self.poses);
         if let Some(t) = &self.terrain {
