@@ -49,7 +49,7 @@ fn many_clips(copies: usize) -> Vec<Clip> {
 /// characters are taken from a real run at many moments.
 #[divan::bench]
 fn choose_next_interval(bencher: Bencher) {
-    let anim = AnimationHandle(Arc::new(Animation::new(database(), trained_policy())));
+    let anim = AnimationHandle(Arc::new(strider::builtin::animation().expect("built-in character")));
     let scenario = strider::maps::generate::random_world(strider::maps::generate::Density::Cluttered, 7);
     let world = scenario.world();
     let rules = include_str!("../scripts/nav.rhai");

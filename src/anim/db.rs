@@ -313,6 +313,10 @@ pub struct Database {
     contacts: Vec<Vec<u8>>,
     /// Per clip and frame: frames so far in which no foot stands flat ([`turn_freedom`]).
     freedom: Vec<Vec<f64>>,
+    /// Per interval and sweep frame: the root's motion from the kept frame before (the
+    /// interval's start for the first) in that frame's ground frame, and the share of a bend
+    /// turned over it.
+    sweep_steps: Vec<Vec<(Ground, f64)>>,
     /// Per interval, clip frames after its start whose root positions are at most
     /// [`SWEEP_SPACING_M`] apart, ending with its last frame.
     sweep_frames: Vec<Vec<usize>>,
@@ -730,9 +734,25 @@ impl Database {
             freedom: contacts.iter().map(|c| turn_freedom(c)).collect(),
             contacts,
             sweep_frames,
+            sweep_steps: Vec::new(),
             ends: Vec::new(),
             arcs: Vec::new(),
         };
+        db.sweep_steps = (0..db.intervals.len())
+            .map(|i| {
+                let iv = &db.intervals[i];
+                let mut prev = iv.start;
+                db.sweep_frames[i]
+                    .iter()
+                    .map(|&f| {
+                        let d = db.tracks[iv.clip][prev].to_local(db.tracks[iv.clip][f]);
+                        let share = db.bend_share(i, prev as f64, f as f64);
+                        prev = f;
+                        (d, share)
+                    })
+                    .collect()
+            })
+            .collect();
         db.arcs = db
             .clips
             .iter()
@@ -1162,11 +1182,11 @@ impl Database {
         let c = &self.freedom[iv.clip];
         let at = |f: f64| {
             let f = f.clamp(iv.start as f64, iv.end as f64);
-            let j = (f.floor() as usize).min(c.len() - 1);
+            let j = (f as usize).min(c.len() - 1);
             let t = f - j as f64;
             c[j] + (c[(j + 1).min(c.len() - 1)] - c[j]) * t
         };
-        let total = at(iv.end as f64) - at(iv.start as f64);
+        let total = c[iv.end] - c[iv.start];
         if total >= 1.0 {
             (at(b) - at(a)) / total
         } else {
@@ -1181,6 +1201,13 @@ impl Database {
     /// a clearance check of its root path visits.
     pub fn sweep_frames(&self, i: usize) -> &[usize] {
         &self.sweep_frames[i]
+    }
+
+    /// For each of [`Self::sweep_frames`]`(i)`: the root's motion from the kept frame before
+    /// (the interval's start for the first), in that frame's ground frame, and the share of a
+    /// warp's bend turned over it ([`Self::bend_share`]).
+    pub fn sweep_steps(&self, i: usize) -> &[(Ground, f64)] {
+        &self.sweep_steps[i]
     }
 
     /// A fingerprint of the structure (clip names and lengths, intervals, candidates) that a

@@ -298,7 +298,7 @@ impl RootMotion {
     /// starting with where it is: every few frames while blending, then at the interval's
     /// sweep frames ([`Database::sweep_frames`]) — consecutive points at most about
     /// [`super::db::SWEEP_SPACING_M`] apart — ending at its end.
-    fn path(mut self, db: &Database, h: f64, out: &mut Vec<DVec2>) {
+    fn path(mut self, db: &Database, h: f64, out: &mut Vec<DVec2>) -> Ground {
         out.push(DVec2::new(self.world.x, self.world.y));
         let end = db.intervals[self.interval].end as f64;
         let mut k = 0;
@@ -310,15 +310,26 @@ impl RootMotion {
             }
         }
         let iv = &db.intervals[self.interval];
-        let (mut world, mut at, mut frame) = (self.world, self.clip_ground, self.frame);
-        for &f in db.sweep_frames(self.interval) {
+        let (mut world, mut frame) = (self.world, self.frame);
+        // On a kept frame (or the start), the motion to the next one is the database's.
+        let mut kept = frame == iv.start as f64;
+        for (&f, &(step, share)) in db.sweep_frames(self.interval).iter().zip(db.sweep_steps(self.interval)) {
             if (f as f64) > frame + 1e-9 {
-                let g = db.ground(iv.clip, f as f64);
-                world = world.then(self.warp.apply(at.to_local(g), db.bend_share(self.interval, frame, f as f64)));
-                (at, frame) = (g, f as f64);
+                let (d, share) = if kept {
+                    (step, share)
+                } else {
+                    let at = db.ground(iv.clip, frame);
+                    (at.to_local(db.ground(iv.clip, f as f64)), db.bend_share(self.interval, frame, f as f64))
+                };
+                world = world.then(self.warp.apply(d, share));
+                frame = f as f64;
+                kept = true;
                 out.push(DVec2::new(world.x, world.y));
+            } else {
+                kept = (f as f64) == frame;
             }
         }
+        world
     }
 }
 
@@ -365,9 +376,33 @@ impl SwitchPoint {
     /// Appends to `out` the world path of the root if candidate `choice` (an index into
     /// `db.candidates[self.ending]`) starts here: the switch point first, then points at most
     /// about [`super::db::SWEEP_SPACING_M`] apart to its end, the cross-fade included — the
-    /// path playback would take.
-    pub fn path(&self, db: &Database, choice: Choice, out: &mut Vec<DVec2>) {
-        self.started(db, choice).path(db, self.h, out);
+    /// path playback would take. Returns the switch point where it ends (as [`Self::then`]
+    /// gives it, the end taken from the path's points).
+    pub fn path(&self, db: &Database, choice: Choice, out: &mut Vec<DVec2>) -> SwitchPoint {
+        let started = self.started(db, choice);
+        let end = started.path(db, self.h, out);
+        let iv = &db.intervals[started.interval];
+        if started.source.is_some() && (iv.end - iv.start) as f64 * db.clips[iv.clip].frame_time <= self.blend_s {
+            // A blend outlasting the interval: played frame by frame.
+            return self.then(db, choice);
+        }
+        let root = RootMotion {
+            interval: started.interval,
+            frame: iv.end as f64,
+            clip_ground: db.ground(iv.clip, iv.end as f64),
+            world: end,
+            source: None,
+            warp: started.warp,
+        };
+        SwitchPoint {
+            ending: root.interval,
+            ground: end,
+            early: false,
+            planted: planted_at(db.feet_at(root.interval, true), end),
+            root,
+            blend_s: self.blend_s,
+            h: self.h,
+        }
     }
 
     /// The world poses playback would show every `h` seconds if candidate `choice` starts
@@ -615,7 +650,7 @@ impl Player {
     pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) {
         let mut root = self.root;
         root.warp = warp;
-        root.path(db, 1.0 / self.params.frame_rate, out);
+        let _ = root.path(db, 1.0 / self.params.frame_rate, out);
     }
 
     /// Seconds into the interval playing.
@@ -648,7 +683,7 @@ impl Player {
     /// Appends to `out` the world path of the root over the rest of the interval playing (see
     /// [`SwitchPoint::path`]).
     pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
-        self.root.path(db, 1.0 / self.params.frame_rate, out);
+        let _ = self.root.path(db, 1.0 / self.params.frame_rate, out);
     }
 
     /// The switch point an early switch made now would start from.

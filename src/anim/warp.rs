@@ -144,20 +144,35 @@ impl Warp {
     /// A root increment `d` (in the frame where it starts) over which `share` of the bend turns,
     /// warped (as the module documentation says).
     pub fn apply(&self, d: Ground, share: f64) -> Ground {
-        if *self == Warp::NONE {
-            return d;
+        if self.turn_scale == 1.0 && self.bend == 0.0 {
+            return Ground { x: self.stride * d.x, y: self.stride * d.y, yaw: d.yaw };
         }
         let yaw = d.yaw * self.turn_scale + self.bend * share;
         // The chord turns by half the change of yaw and keeps the arc's length.
-        let (s, c) = (0.5 * (yaw - d.yaw)).sin_cos();
+        let (s, c) = small_sin_cos(0.5 * (yaw - d.yaw));
         let k = self.stride * sinc(0.5 * yaw) / sinc(0.5 * d.yaw);
         Ground { x: k * (c * d.x - s * d.y), y: k * (s * d.x + c * d.y), yaw }
     }
 }
 
-/// sin(x) / x, 1 at 0.
+/// sin(x) / x, 1 at 0 (by its series below 0.05, within 1e-15).
 fn sinc(x: f64) -> f64 {
-    if x.abs() < 1e-4 { 1.0 - x * x / 6.0 } else { x.sin() / x }
+    let x2 = x * x;
+    if x.abs() < 0.05 { 1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)) } else { x.sin() / x }
+}
+
+/// (sin x, cos x), by their series below 0.05 (within 1e-15): warps and sweep pieces turn by
+/// little.
+fn small_sin_cos(x: f64) -> (f64, f64) {
+    if x.abs() < 0.05 {
+        let x2 = x * x;
+        (
+            x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0))),
+            1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0)),
+        )
+    } else {
+        x.sin_cos()
+    }
 }
 
 #[cfg(test)]
@@ -205,6 +220,18 @@ mod tests {
         assert!((w.turn(&pivot) - 20f64.to_radians()).abs() < 1e-12 && w.stride == 1.0);
         let stand = IntervalKind { in_place: true, ..MOVING };
         assert_eq!(Warp::toward(&interval(0.0, 0.0), stand, 1.0, 1.0, &l), Warp::NONE);
+    }
+
+    #[test]
+    fn the_series_match_the_functions() {
+        for k in -100..=100 {
+            let x = k as f64 * 0.0005;
+            let (s, c) = small_sin_cos(x);
+            assert!((s - x.sin()).abs() < 1e-15 && (c - x.cos()).abs() < 1e-15, "{x}");
+            if x != 0.0 {
+                assert!((sinc(x) - x.sin() / x).abs() < 1e-15, "{x}");
+            }
+        }
     }
 
     #[test]

@@ -304,7 +304,13 @@ impl LookAhead<'_> {
         match self.path.as_slice() {
             [] => true,
             [p] => self.space.clearance(*p, need) >= need,
-            pts => pts.windows(2).all(|w| self.space.segment_clearance(w[0], w[1], need) >= need),
+            pts => {
+                // Room around the start for the whole path settles it with one query.
+                let reach = pts.iter().map(|p| p.distance_squared(pts[0])).fold(0.0, f64::max).sqrt();
+                let room = reach + need;
+                self.space.clearance(pts[0], room + 1e-9) >= room
+                    || pts.windows(2).all(|w| self.space.segment_clearance(w[0], w[1], need) >= need)
+            }
         }
     }
 
@@ -345,12 +351,11 @@ impl LookAhead<'_> {
         let in_place = db.kinds[next].in_place;
         self.path.clear();
         let choice = self.choice(db, at, a);
-        at.path(db, choice, self.path);
+        let then = at.path(db, choice, self.path);
         // Only a turn on the spot may give up some of the margin (to turn away from a wall).
         if !self.clear(if db.kinds[next].spot_turn != 0 { needs.1 } else { needs.0 }) {
             return Eligibility::Blocked;
         }
-        let then = at.then(db, choice);
         if !self.feet_clear(db.feet_at(next, false), at.ground) || !self.feet_clear(db.feet_at(next, true), then.ground)
         {
             return Eligibility::Blocked;
@@ -377,6 +382,12 @@ impl LookAhead<'_> {
     /// beside the body's disc into a wall (steps that turn or start place a foot well to the
     /// side, and a cross-fade carries a swinging foot toward where the candidate starts it).
     fn feet_clear(&mut self, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
+        // Room around the root for every point settles it at once.
+        let reach = feet.points.iter().flatten().map(|p| p.truncate().length()).fold(0.0, f64::max);
+        let room = reach + FOOT_ROOM_M;
+        if self.space.clearance(DVec2::new(at.x, at.y), room + 1e-9) >= room {
+            return true;
+        }
         feet.points.iter().flatten().all(|p| {
             let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
             self.space.clearance(DVec2::new(w.x, w.y), FOOT_ROOM_M) >= FOOT_ROOM_M
