@@ -339,6 +339,22 @@ fn the_character_looks_before_it_steps() {
 }
 
 #[test]
+fn a_character_held_at_a_door_post_turns_away_from_it() {
+    // Episode 18 of `strider run random:rooms --seed 4242`: the character comes to stand 4 cm
+    // inside its margin at a door post, where every turn on the spot sways the pelvis toward
+    // the post. Held still, it turns anyway (keeping the 2 cm every frame keeps) and reaches
+    // the goal instead of standing there until the time runs out.
+    let params = StepParameters { animation: Some(AnimationHandle(animation())), ..StepParameters::default() };
+    let c = controller();
+    let seed = strider::experiment::world_seed(4242, 18);
+    let scenario = strider::maps::kind::generate(strider::maps::kind::WorldKind::Rooms, seed);
+    let world = scenario.world();
+    let e = run_episode(&scenario, &world, 0, &c, &params, 18, seed);
+    assert!(e.record.reached && e.record.collisions == 0, "{:?}", e.record);
+    assert!(e.record.min_clearance_m >= strider::sim::animated::KEEP_ROOM_M - 1e-9, "{:?}", e.record);
+}
+
+#[test]
 fn the_learnt_policy_earns_its_place() {
     let a = animation();
     let learnt = evaluate(&a.db, &a.policy, Strategy::Learnt, 4000, 5);

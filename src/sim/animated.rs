@@ -296,7 +296,12 @@ impl LookAhead<'_> {
     fn needs(&mut self, from: DVec2) -> (f64, f64) {
         let want = self.radius + self.anim.clearance_m;
         let now = self.space.clearance(from, want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M;
-        (now.min(want), now.min(want - IN_PLACE_SLACK_M))
+        // Held still for a while with nothing clear, a turn on the spot may come as close as
+        // the room every frame keeps (the frame guard holds the root there): standing on
+        // never gets the character out.
+        let in_place =
+            if self.restless { self.radius + KEEP_ROOM_M - PATH_ALLOWANCE_M } else { now.min(want - IN_PLACE_SLACK_M) };
+        (now.min(want), in_place)
     }
 
     fn clear(&mut self, need: f64) -> bool {
