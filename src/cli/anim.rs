@@ -506,6 +506,20 @@ pub fn describe(db: &Database, dir: Option<&Path>) -> String {
         count(&|k| k.spot_turn > 0),
         count(&|k| k.spot_turn < 0)
     );
+    let w = crate::anim::warp::WarpLimits::default();
+    let _ = writeln!(
+        s,
+        "sharp turns while moving (40° or more): {} left / {} right; default warping (`strider train`): turns ×{:.2}–{:.2} (on the spot ×{:.2}–{:.2}), bends up to {:.0}°, strides ×{:.2}–{:.2}",
+        count(&|k| k.sharp_turn > 0),
+        count(&|k| k.sharp_turn < 0),
+        w.turn_scale.0,
+        w.turn_scale.1,
+        w.spot_scale.0,
+        w.spot_scale.1,
+        w.bend_rad.to_degrees(),
+        w.stride.0,
+        w.stride.1
+    );
     let _ = writeln!(s, "{:<22} {:>7} {:>10} {:>9}", "clip", "frames", "intervals", "speed");
     for (c, clip) in db.clips.iter().enumerate() {
         let ivs: Vec<_> = db.intervals.iter().filter(|i| i.clip == c).collect();
