@@ -386,19 +386,26 @@ impl SwitchPoint {
             // A blend outlasting the interval: played frame by frame.
             return self.then(db, choice);
         }
-        let root = RootMotion {
-            interval: started.interval,
-            frame: iv.end as f64,
-            clip_ground: db.ground(iv.clip, iv.end as f64),
-            world: end,
-            source: None,
-            warp: started.warp,
-        };
+        self.ended(
+            db,
+            RootMotion {
+                interval: started.interval,
+                frame: iv.end as f64,
+                clip_ground: db.ground(iv.clip, iv.end as f64),
+                world: end,
+                source: None,
+                warp: started.warp,
+            },
+        )
+    }
+
+    /// The switch point where `root` (at the end of its interval) ends up.
+    fn ended(&self, db: &Database, root: RootMotion) -> SwitchPoint {
         SwitchPoint {
             ending: root.interval,
-            ground: end,
+            ground: root.world,
             early: false,
-            planted: planted_at(db.feet_at(root.interval, true), end),
+            planted: planted_at(db.feet_at(root.interval, true), root.world),
             root,
             blend_s: self.blend_s,
             h: self.h,
@@ -461,16 +468,7 @@ impl SwitchPoint {
         while root.frame < iv.end as f64 - 1e-9 {
             root.advance_by(db, self.h.min((iv.end as f64 - root.frame) * ft));
         }
-        let planted = planted_at(db.feet_at(root.interval, true), root.world);
-        SwitchPoint {
-            ending: root.interval,
-            ground: root.world,
-            early: false,
-            planted,
-            root,
-            blend_s: self.blend_s,
-            h: self.h,
-        }
+        self.ended(db, root)
     }
 
     /// How far the start pose of candidate `choice` would put a foot planted now from where it
@@ -683,7 +681,7 @@ impl Player {
     /// Appends to `out` the world path of the root over the rest of the interval playing (see
     /// [`SwitchPoint::path`]).
     pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
-        let _ = self.root.path(db, 1.0 / self.params.frame_rate, out);
+        self.remaining_path_with(db, self.root.warp, out);
     }
 
     /// The switch point an early switch made now would start from.
@@ -877,9 +875,9 @@ impl Player {
             let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
             let height = |k: usize| pts[k].z - db.point_floor[f][k];
             let (heel, toe) = (pts[0], pts[1]);
-            let lock = &mut self.locks[f];
             let along = (toe - heel).truncate();
             let yaw = along.y.atan2(along.x);
+            let lock = &mut self.locks[f];
             // A turn of the planted foot: pivot on the toe with the heel lifted, as a person
             // does (the actor's hip cannot turn the foot on the ground).
             let mut lift = None;

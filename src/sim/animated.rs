@@ -282,6 +282,29 @@ fn keeps_room(space: &mut dyn Space, from: DVec2, to: DVec2, radius: f64) -> boo
     after >= want || (is_free(space, to, radius) && after >= space.clearance(from, want + 1e-9))
 }
 
+/// The room at `from` for a body that wants `want` metres (centre to obstacle): what there is,
+/// looked for up to `want` (beyond it, as good as `want`), the path allowance taken off.
+fn room_now(space: &mut dyn Space, from: DVec2, want: f64) -> f64 {
+    space.clearance(from, want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M
+}
+
+/// The root path `pts` keeps `need` metres (plus [`PATH_ALLOWANCE_M`] for the curve between
+/// its points) from everything in `space`.
+fn path_keeps(space: &mut dyn Space, pts: &[DVec2], need: f64) -> bool {
+    let need = need + PATH_ALLOWANCE_M;
+    match pts {
+        [] => true,
+        [p] => space.clearance(*p, need) >= need,
+        _ => {
+            // Room around the start for the whole path settles it with one query.
+            let reach = pts.iter().map(|p| p.distance_squared(pts[0])).fold(0.0, f64::max).sqrt();
+            let room = reach + need;
+            space.clearance(pts[0], room + 1e-9) >= room
+                || pts.windows(2).all(|w| space.segment_clearance(w[0], w[1], need) >= need)
+        }
+    }
+}
+
 /// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
 /// shifts over the feet).
 const IN_PLACE_SLACK_M: f64 = 0.02;
@@ -295,7 +318,7 @@ impl LookAhead<'_> {
     /// one that stands too close can still turn or move away.
     fn needs(&mut self, from: DVec2) -> (f64, f64) {
         let want = self.radius + self.anim.clearance_m;
-        let now = self.space.clearance(from, want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M;
+        let now = room_now(self.space, from, want);
         // Held still for a while with nothing clear, a turn on the spot may come as close as
         // the room every frame keeps (the frame guard holds the root there): standing on
         // never gets the character out.
@@ -305,18 +328,7 @@ impl LookAhead<'_> {
     }
 
     fn clear(&mut self, need: f64) -> bool {
-        let need = need + PATH_ALLOWANCE_M;
-        match self.path.as_slice() {
-            [] => true,
-            [p] => self.space.clearance(*p, need) >= need,
-            pts => {
-                // Room around the start for the whole path settles it with one query.
-                let reach = pts.iter().map(|p| p.distance_squared(pts[0])).fold(0.0, f64::max).sqrt();
-                let room = reach + need;
-                self.space.clearance(pts[0], room + 1e-9) >= room
-                    || pts.windows(2).all(|w| self.space.segment_clearance(w[0], w[1], need) >= need)
-            }
-        }
+        path_keeps(self.space, self.path, need)
     }
 
     /// Candidate `a` at `at` may be taken: its start can reach the feet planted now (within
@@ -324,8 +336,8 @@ impl LookAhead<'_> {
     /// does a turn on the spot or a stop after it, so the character never walks where it could
     /// not stop or turn round.
     fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
-        let legs = self.eligible_for_legs(db, at, a, needs);
         let choice = self.choice(db, at, a);
+        let legs = self.eligible_for_legs(db, at, choice, needs);
         match &mut self.upper {
             Some((u, _)) if legs == Eligibility::Clear => {
                 if u.admits(db, at, choice, self.command.speed) {
@@ -348,14 +360,13 @@ impl LookAhead<'_> {
     }
 
     /// [`LookAhead::eligible`] for the legs' disc alone.
-    fn eligible_for_legs(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
-        if at.reach_gap(db, a) > LOCK_REACH_M {
+    fn eligible_for_legs(&mut self, db: &Database, at: &SwitchPoint, choice: Choice, needs: (f64, f64)) -> Eligibility {
+        if at.reach_gap(db, choice.candidate) > LOCK_REACH_M {
             return Eligibility::OutOfReach;
         }
-        let next = db.candidates[at.ending][a].interval;
+        let next = db.candidates[at.ending][choice.candidate].interval;
         let in_place = db.kinds[next].in_place;
         self.path.clear();
-        let choice = self.choice(db, at, a);
         let then = at.path(db, choice, self.path);
         // Only a turn on the spot may give up some of the margin (to turn away from a wall).
         if !self.clear(if db.kinds[next].spot_turn != 0 { needs.1 } else { needs.0 }) {
@@ -670,13 +681,8 @@ impl AnimatedBody {
         self.player.remaining_path_with(db, warp, &mut self.path);
         let g = self.player.ground();
         let want = self.radius + anim.clearance_m;
-        let here = space.clearance(DVec2::new(g.x, g.y), want + PATH_ALLOWANCE_M) - PATH_ALLOWANCE_M;
-        let need = here.min(want) + PATH_ALLOWANCE_M;
-        let clear = match self.path.as_slice() {
-            [] | [_] => true,
-            pts => pts.windows(2).all(|w| space.segment_clearance(w[0], w[1], need) >= need),
-        };
-        if clear {
+        let need = room_now(space, DVec2::new(g.x, g.y), want).min(want);
+        if path_keeps(space, &self.path, need) {
             self.player.rewarp(warp);
         }
     }

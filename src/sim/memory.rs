@@ -24,7 +24,9 @@
 //! touches it or the agent strays from it; a new plan replaces the path only when it is
 //! clearly shorter, so two ways round an obstacle of about the same length do not take turns.
 //! The waypoint is the farthest point of the path within reach in clear sight, with the margin
-//! kept when that leaves one at least a metre ahead. The grid grows as the agent explores.
+//! kept when that leaves one at least a metre ahead; before a door or corridor narrower than the
+//! margin, the agent instead pursues the gap's middle line as its sensor measures it
+//! ([`Memory::heading_with`]), so it enters along it. The grid grows as the agent explores.
 //! Everything is deterministic: plain vectors, ties broken by cell index.
 
 use dary_heap::QuaternaryHeap;
