@@ -336,6 +336,9 @@ impl LookAhead<'_> {
     /// does a turn on the spot or a stop after it, so the character never walks where it could
     /// not stop or turn round.
     fn eligible(&mut self, db: &Database, at: &SwitchPoint, a: usize, needs: (f64, f64)) -> Eligibility {
+        if at.reach_gap(db, a) > LOCK_REACH_M {
+            return Eligibility::OutOfReach;
+        }
         let choice = self.choice(db, at, a);
         let legs = self.eligible_for_legs(db, at, choice, needs);
         match &mut self.upper {
@@ -359,11 +362,8 @@ impl LookAhead<'_> {
         Choice { candidate: a, warp: at.warp_toward(db, a, direction, self.command.speed, limits) }
     }
 
-    /// [`LookAhead::eligible`] for the legs' disc alone.
+    /// [`LookAhead::eligible`] for the legs' disc alone, `choice` being one whose start the feet reach.
     fn eligible_for_legs(&mut self, db: &Database, at: &SwitchPoint, choice: Choice, needs: (f64, f64)) -> Eligibility {
-        if at.reach_gap(db, choice.candidate) > LOCK_REACH_M {
-            return Eligibility::OutOfReach;
-        }
         let next = db.candidates[at.ending][choice.candidate].interval;
         let in_place = db.kinds[next].in_place;
         self.path.clear();
