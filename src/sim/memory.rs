@@ -457,9 +457,26 @@ impl Memory {
             .0;
         // Drop what is behind.
         self.path.drain(..start);
-        // The waypoint: the farthest point of the path within reach that the disc can go
-        // straight to without touching what is remembered (with the margin if it can), so
-        // that steering toward it never cuts a corner into a wall; else the next point.
+        // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
+        // elsewhere the waypoint is the farthest one in sight.
+        let waypoint = match self.line_up(from, span) {
+            Some(p) => p,
+            None => self.farthest_waypoint(from, sight),
+        };
+        let remaining: f64 =
+            from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+        let to = waypoint - from;
+        if to.length() < 1e-9 {
+            let to = self.goal - from;
+            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() });
+        }
+        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
+    }
+
+    /// The waypoint: the farthest point of the path within reach that the disc can go straight
+    /// to from `from` without touching what is remembered (with the margin if it can), so that
+    /// steering toward it never cuts a corner into a wall; else the next point.
+    fn farthest_waypoint(&self, from: DVec2, sight: impl Fn(f64) -> f64) -> DVec2 {
         let mut along = from.distance(self.path[0]);
         let mut prev = self.path[0];
         let reach = self
@@ -492,19 +509,7 @@ impl Memory {
         }
         // A waypoint close by is circled rather than reached: keep the margin only while
         // that leaves one far enough ahead.
-        let mut waypoint = roomy.or(kept).or(clear).unwrap_or(self.path[0]);
-        // A narrow part of the way ahead (a door, a corridor) is entered along its own line.
-        if let Some(p) = self.line_up(from, span) {
-            waypoint = p;
-        }
-        let remaining: f64 =
-            from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
-        let to = waypoint - from;
-        if to.length() < 1e-9 {
-            let to = self.goal - from;
-            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() });
-        }
-        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
+        roomy.or(kept).or(clear).unwrap_or(self.path[0])
     }
 
     /// The band of the margin the cell holding `p` lies in (0 outside it or off the grid).
