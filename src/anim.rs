@@ -17,6 +17,6 @@ pub mod rig;
 pub mod skeleton;
 pub mod warp;
 
-pub use clip::{Clip, Ground, mirror_pairs, mirror_rotation};
+pub use clip::{Clip, Ground, mirror_pairs};
 pub use db::{Database, DbError, DbParams, IntervalSpec};
-pub use skeleton::{Channel, Joint, Pose, Skeleton, SkeletonError, angle_between, heading, slerp};
+pub use skeleton::{Channel, Joint, Pose, Skeleton, SkeletonError, angle_between, heading, mirror_rotation, slerp};

@@ -51,11 +51,6 @@ impl Clip {
     }
 }
 
-/// A rotation reflected across the XZ plane.
-pub fn mirror_rotation(q: DQuat) -> DQuat {
-    DQuat::from_xyzw(-q.x, q.y, -q.z, q.w)
-}
-
 /// For each joint, the joint that mirrors it, paired by name: `Left…`/`Right…`, `left_…`/
 /// `right_…` and a leading `L`/`R` before a capital (`LHipJoint`/`RHipJoint`). Joints without a
 /// partner mirror themselves.

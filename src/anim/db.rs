@@ -263,10 +263,13 @@ pub struct Candidate {
     /// Interval distance (Eq. 2) from the natural successor (0 for the successor itself).
     pub distance: f64,
     /// Continues the ending interval's motion without a transition: its clip's next frames,
-    /// or a start pose equal to the ending pose (pose distance below
-    /// [`SEAMLESS`](super::player::SEAMLESS)).
+    /// or a start pose equal to the ending pose (pose distance below [`SEAMLESS`]).
     pub seamless: bool,
 }
+
+/// Pose distance (Eq. 1) below which a switch continues the motion seamlessly, needing no
+/// transition.
+pub const SEAMLESS: f64 = 1e-4;
 
 /// The animation database.
 #[derive(Debug, Clone)]
@@ -1021,7 +1024,7 @@ impl Database {
                     .map(|(j, d)| {
                         let jv = &self.intervals[j];
                         let seamless = (jv.clip == iv.clip && jv.start == iv.end)
-                            || self.pose_distance(&end, &self.samples[j][0]) < super::player::SEAMLESS;
+                            || self.pose_distance(&end, &self.samples[j][0]) < SEAMLESS;
                         Candidate { interval: j, weight: 1.0 / (d + self.epsilon) / total, distance: d, seamless }
                     })
                     .collect()

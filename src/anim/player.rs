@@ -78,9 +78,6 @@ impl Default for PlayerParams {
 pub const CONTACT_HEIGHT_M: f64 = 0.025;
 /// A foot plant sliding this much or more is perceptible, centimetres.
 pub const PERCEPTIBLE_SLIDE_CM: f64 = 2.0;
-/// Pose distance (Eq. 1) below which a switch continues the motion seamlessly, needing no
-/// transition.
-pub const SEAMLESS: f64 = 1e-4;
 /// Window around a switch in which joint jerk is watched, seconds.
 pub const JERK_WINDOW_S: f64 = 0.25;
 /// Frames between the points a look-ahead path records while a cross-fade is blending.

@@ -209,7 +209,7 @@ impl Pose {
     pub fn mirrored(&self, pairs: &[usize]) -> Pose {
         Pose {
             root: DVec3::new(self.root.x, -self.root.y, self.root.z),
-            rotations: pairs.iter().map(|&m| super::clip::mirror_rotation(self.rotations[m])).collect(),
+            rotations: pairs.iter().map(|&m| mirror_rotation(self.rotations[m])).collect(),
         }
     }
 
@@ -235,6 +235,11 @@ impl Pose {
             *q = slerp(qa, *q, t);
         }
     }
+}
+
+/// A rotation reflected across the XZ plane.
+pub fn mirror_rotation(q: DQuat) -> DQuat {
+    DQuat::from_xyzw(-q.x, q.y, -q.z, q.w)
 }
 
 /// Shortest-arc spherical interpolation of unit quaternions.
