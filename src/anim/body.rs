@@ -16,7 +16,6 @@ use glam::{DQuat, DVec3};
 use super::actor::{CHEST, HEAD, LEFT_ARM, LEFT_FORE_ARM, NECK, RIGHT_ARM, RIGHT_FORE_ARM};
 use super::skeleton::{Pose, Skeleton};
 use crate::geom::{Aabb, Capsule, Prism};
-use crate::world::Obstacle;
 
 /// Radius of the torso's capsule, metres.
 pub const TORSO_RADIUS_M: f64 = 0.11;
@@ -266,13 +265,6 @@ pub fn clearance<'a>(
     best
 }
 
-/// The prisms of `obstacles`' parts with their bounding boxes, for [`clearance`].
-pub fn prisms(obstacles: &[Obstacle]) -> impl Iterator<Item = (Prism<'_>, Aabb)> {
-    obstacles
-        .iter()
-        .flat_map(|o| o.parts.iter().map(|base| (Prism { base, z_min: o.z_min, z_max: o.z_max }, base.aabb())))
-}
-
 /// The highest point of the capsules, metres (for the duck height).
 pub fn top(capsules: &[(Part, Capsule)]) -> f64 {
     capsules.iter().map(|(_, c)| c.a.z.max(c.b.z) + c.radius).fold(f64::NEG_INFINITY, f64::max)
@@ -284,7 +276,14 @@ mod tests {
 
     use super::*;
     use crate::anim::actor::{self, SHOULDER_HALF_WIDTH_M};
-    use crate::world::ObstacleShape;
+    use crate::world::{Obstacle, ObstacleShape};
+
+    /// The prisms of `obstacles`' parts with their bounding boxes, for [`clearance`].
+    fn prisms(obstacles: &[Obstacle]) -> impl Iterator<Item = (Prism<'_>, Aabb)> {
+        obstacles
+            .iter()
+            .flat_map(|o| o.parts.iter().map(|base| (Prism { base, z_min: o.z_min, z_max: o.z_max }, base.aabb())))
+    }
 
     fn standing() -> (Skeleton, Vec<(Part, Capsule)>) {
         let s = actor::actor();
