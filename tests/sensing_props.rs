@@ -6,7 +6,7 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use strider::maps::kind::{self, WorldKind};
-use strider::sim::{Fan, swept_free, swept_free_along};
+use strider::sim::sense::{Fan, swept_free, swept_free_along};
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]

@@ -39,7 +39,7 @@ use std::f64::consts::FRAC_PI_2;
 use glam::DVec2;
 
 use super::body::{Body, Command};
-use super::follow::{FollowParams, FollowStep, follow_direction, swept_ahead};
+use super::follow::{FollowParams, FollowStep, Side, follow_direction, swept_ahead};
 use crate::fuzzy::{Engine, Network};
 use crate::geom::wrap_angle;
 use crate::world::Sensed;
@@ -167,15 +167,6 @@ impl Default for ControllerParams {
 /// straight to the goal, metres.
 fn to_go(s: &Sensed) -> f64 {
     if s.route_distance.is_finite() { s.route_distance } else { s.goal_distance }
-}
-
-/// Which side the followed boundary is on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
-    /// Obstacle on the left.
-    Left,
-    /// Obstacle on the right.
-    Right,
 }
 
 /// The state of boundary following.

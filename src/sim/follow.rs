@@ -2,7 +2,7 @@
 //! DESIGN.md §2): the direction that keeps one obstacle contour on a fixed side.
 //!
 //! The scan's obstacles are grown by a clearance margin and every ray is judged by how far the
-//! grown disc could travel along it ([`super::swept_free`]); a ray is open when that is at
+//! grown disc could travel along it ([`swept_free`]); a ray is open when that is at
 //! least a look-ahead distance. Starting from the nearest obstacle ray on the followed side,
 //! the rays are swept away from the wall (clockwise for a wall on the left); the first open ray
 //! is the direction to move in. Along a straight wall this converges on the wall's tangent at
@@ -11,8 +11,17 @@
 //! stays with one contour. Gaps too narrow for the grown disc count as wall, so the follower
 //! does not try them; when nothing is open with the margin, the bare disc is tried.
 
-use super::Side;
+use super::sense::{Fan, swept_free, swept_free_along};
 use crate::geom::wrap_angle;
+
+/// Which side the followed boundary is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// Obstacle on the left.
+    Left,
+    /// Obstacle on the right.
+    Right,
+}
 
 /// Tuning of the geometric follower. Every field documents its default.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,9 +92,9 @@ pub fn follow_direction(
         }
     }
     let reference = reference?;
-    let bare = super::swept_free(scan, radius, range);
+    let bare = swept_free(scan, radius, range);
     let grown_scan: Vec<f64> = scan.iter().map(|f| (f - p.clearance_m).max(0.0)).collect();
-    let grown = super::swept_free(&grown_scan, radius + p.clearance_m, range);
+    let grown = swept_free(&grown_scan, radius + p.clearance_m, range);
     let pick = |free: &[f64]| -> Option<usize> {
         (0..n as isize).map(|k| (reference as isize + sweep * k).rem_euclid(n as isize) as usize).find(|&i| {
             let need = p.lookahead_m.min(range);
@@ -111,11 +120,11 @@ pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, clearance: f64, rang
     }
     let step = std::f64::consts::TAU / n as f64;
     let lo = ((heading.rem_euclid(std::f64::consts::TAU) / step).floor() as usize) % n;
-    let fan = super::Fan::of(n);
+    let fan = Fan::of(n);
     let dir = |d: usize| fan.turns[d];
-    // The two rays of [`super::swept_free`] around the heading, for the grown disc (obstacle
+    // The two rays of [`swept_free`] around the heading, for the grown disc (obstacle
     // points stay where the scan saw them).
-    let along_ray = |i: usize| super::swept_free_along(scan, i, radius, radius + clearance, range, dir);
+    let along_ray = |i: usize| swept_free_along(scan, i, radius, radius + clearance, range, dir);
     Some(along_ray(lo).min(along_ray((lo + 1) % n)))
 }
 

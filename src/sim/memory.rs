@@ -394,7 +394,7 @@ impl Memory {
         let (ci, cj) = self.cell_of(from);
         self.include(ci + reach, cj + reach);
         let c = self.params.cell_m;
-        let fan = super::Fan::of(n);
+        let fan = super::sense::Fan::of(n);
         for (k, &f) in scan.iter().enumerate() {
             if f.is_finite() && f < range {
                 self.mark(from + fan.rays[k] * (f + radius));
