@@ -23,6 +23,7 @@ use crate::anim::policy::{LearnParams, Policy, StateGrid, Strategy};
 use crate::anim::rig;
 use crate::anim::{Clip, Database, DbParams, IntervalSpec, Skeleton};
 use crate::diagnostic::SourceError;
+use crate::lex::{Tok, tokenize};
 use crate::sim::{Animation, AnimationHandle};
 
 /// `strider db` subcommands.
@@ -318,15 +319,13 @@ pub fn save_database_with_feet(db: &Database, dir: &Path, feet: &[String]) -> Re
 /// Reads the hand-written interval list: `CLIP START END` per line, `#` comments.
 pub fn parse_intervals(text: &str, file: &str) -> Result<Vec<IntervalSpec>, SourceError> {
     let mut out = Vec::new();
-    for (n, raw) in text.lines().enumerate() {
-        let line = raw.split('#').next().unwrap_or("");
-        let fields: Vec<(usize, &str)> =
-            line.split_whitespace().map(|f| (f.as_ptr() as usize - line.as_ptr() as usize + 1, f)).collect();
+    for (n, line) in text.lines().enumerate() {
+        let (fields, end_col) = tokenize(line);
         if fields.is_empty() {
             continue;
         }
         if fields.len() != 3 {
-            let col = fields.get(3).map_or(line.trim_end().len() + 1, |f| f.0);
+            let col = fields.get(3).map_or(end_col, |f| f.col);
             return Err(SourceError::new(
                 file,
                 n + 1,
@@ -334,15 +333,16 @@ pub fn parse_intervals(text: &str, file: &str) -> Result<Vec<IntervalSpec>, Sour
                 format!("expected CLIP START END, found {} fields", fields.len()),
             ));
         }
-        let num = |(col, s): (usize, &str)| {
-            s.parse::<usize>()
-                .map_err(|_| SourceError::new(file, n + 1, col, format!("expected a frame number, found '{s}'")))
+        let num = |t: Tok| {
+            t.text.parse::<usize>().map_err(|_| {
+                SourceError::new(file, n + 1, t.col, format!("expected a frame number, found '{}'", t.text))
+            })
         };
         let (start, end) = (num(fields[1])?, num(fields[2])?);
         if end <= start {
-            return Err(SourceError::new(file, n + 1, fields[2].0, "the last frame must come after the first"));
+            return Err(SourceError::new(file, n + 1, fields[2].col, "the last frame must come after the first"));
         }
-        out.push(IntervalSpec { clip: fields[0].1.to_string(), start, end });
+        out.push(IntervalSpec { clip: fields[0].text.to_string(), start, end });
     }
     Ok(out)
 }

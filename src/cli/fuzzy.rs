@@ -238,7 +238,7 @@ pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<(Vec<
         }
         let mut col = 1;
         for (field, &index) in fields.iter().zip(&columns) {
-            let v = fll::parse_number(field.trim())
+            let v = crate::lex::parse_number(field.trim())
                 .ok_or_else(|| SourceError::new(file, ln + 1, col, format!("'{}' is not a number", field.trim())))?;
             row[index] = v;
             col += field.chars().count() + 1;
@@ -250,7 +250,7 @@ pub fn read_inputs_csv(text: &str, file: &str, names: &[String]) -> Result<(Vec<
 
 /// Formats a value for CSV output: shortest exact decimal, `nan`, `inf`, `-inf`.
 fn csv_number(x: f64) -> String {
-    fll::number(x)
+    crate::lex::number(x)
 }
 
 fn eval(path: &Path, inputs: Option<&Path>, only: Option<&str>) -> Outcome {

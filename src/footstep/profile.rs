@@ -22,7 +22,7 @@
 use std::fmt;
 
 use crate::diagnostic::SourceError;
-use crate::maps::text::{Tok, tokenize};
+use crate::lex::tokenize;
 
 /// Largest profile text accepted, bytes (16 MiB).
 pub const MAX_PROFILE_BYTES: usize = 16 << 20;
@@ -360,7 +360,7 @@ pub fn parse(text: &str, file: &str) -> Result<Course, SourceError> {
             if let Some(extra) = args.get(count) {
                 return Err(err(line, extra.col, format!("unexpected `{}` (usage: {usage})", extra.text)));
             }
-            args.iter().map(|t| number(file, line, *t)).collect()
+            args.iter().map(|t| t.number(file, line)).collect()
         };
         match kw.text {
             "start" | "goal" => {
@@ -418,14 +418,6 @@ pub fn parse(text: &str, file: &str) -> Result<Course, SourceError> {
     }
     let ground = GroundProfile::new(pieces).map_err(|e| err(0, 0, e.to_string()))?;
     Ok(Course { ground, start_m, goal_m, start_line, goal_line })
-}
-
-fn number(file: &str, line: usize, tok: Tok<'_>) -> Result<f64, SourceError> {
-    match tok.text.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(SourceError::new(file, line, tok.col, format!("`{}` is not a finite number", tok.text))),
-        Err(_) => Err(SourceError::new(file, line, tok.col, format!("expected a number, found `{}`", tok.text))),
-    }
 }
 
 #[cfg(test)]

@@ -313,7 +313,7 @@ impl Activation {
         let number = |i: usize, default: f64| -> Result<f64, String> {
             match params.get(i) {
                 None => Ok(default),
-                Some(p) => super::fll::parse_number(p)
+                Some(p) => crate::lex::parse_number(p)
                     .filter(|v| v.is_finite())
                     .ok_or_else(|| format!("expected a finite number, found '{p}'")),
             }
@@ -368,11 +368,11 @@ impl Activation {
         match self {
             Activation::General | Activation::Proportional => String::new(),
             Activation::First { rules, threshold } | Activation::Last { rules, threshold } => {
-                format!("{rules} {}", super::fll::number(*threshold))
+                format!("{rules} {}", crate::lex::number(*threshold))
             }
             Activation::Highest { rules } | Activation::Lowest { rules } => rules.to_string(),
             Activation::Threshold { comparison, value } => {
-                format!("{} {}", comparison.symbol(), super::fll::number(*value))
+                format!("{} {}", comparison.symbol(), crate::lex::number(*value))
             }
         }
     }

@@ -15,30 +15,7 @@ use super::norm::{SNorm, TNorm};
 use super::rule::Rule;
 use super::term::Term;
 use crate::diagnostic::SourceError;
-
-/// Writes a number the way FLL reads it: `nan`, `inf`, `-inf`, or the shortest decimal that
-/// reads back to the same `f64`.
-pub fn number(x: f64) -> String {
-    if x.is_nan() {
-        "nan".into()
-    } else if x == f64::INFINITY {
-        "inf".into()
-    } else if x == f64::NEG_INFINITY {
-        "-inf".into()
-    } else {
-        format!("{x}")
-    }
-}
-
-/// Reads an FLL number (`nan`, `inf`, `+inf`, `-inf` or a decimal).
-pub fn parse_number(s: &str) -> Option<f64> {
-    match s.to_ascii_lowercase().as_str() {
-        "nan" | "+nan" | "-nan" => Some(f64::NAN),
-        "inf" | "+inf" | "infinity" | "+infinity" => Some(f64::INFINITY),
-        "-inf" | "-infinity" => Some(f64::NEG_INFINITY),
-        other => other.parse::<f64>().ok().filter(|v| v.is_finite()),
-    }
-}
+use crate::lex::{number, parse_number};
 
 enum Section {
     None,
@@ -544,14 +521,5 @@ RuleBlock: rules
         }
         let bom = format!("\u{feff}{SMALL}");
         assert!(import(&bom, "t.fll").is_ok());
-    }
-
-    #[test]
-    fn numbers() {
-        for x in [0.0, -1.5, 1e-300, f64::INFINITY, f64::NEG_INFINITY, 0.1 + 0.2] {
-            assert_eq!(parse_number(&number(x)), Some(x));
-        }
-        assert!(parse_number(&number(f64::NAN)).unwrap().is_nan());
-        assert_eq!(parse_number("abc"), None);
     }
 }

@@ -328,7 +328,7 @@ impl Rule {
             s.push_str(&var.terms[c.term].name);
         }
         if self.weight != 1.0 {
-            s.push_str(&format!(" with {}", super::fll::number(self.weight)));
+            s.push_str(&format!(" with {}", crate::lex::number(self.weight)));
         }
         s
     }

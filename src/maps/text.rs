@@ -44,6 +44,7 @@ use glam::DVec2;
 use super::{TaskEnd, first_blocked_task};
 use crate::diagnostic::SourceError;
 use crate::geom::GeomError;
+use crate::lex::{Tok, tokenize};
 use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, MAX_STAIR_TREADS, TerrainFeature};
@@ -146,43 +147,6 @@ fn write_points(out: &mut String, keyword: &str, points: &[DVec2]) {
         let _ = write!(out, " {} {}", p.x, p.y);
     }
     out.push('\n');
-}
-
-/// One whitespace-separated word and its 1-based column (in characters).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Tok<'a> {
-    /// The word.
-    pub(crate) text: &'a str,
-    /// Its 1-based column, in characters.
-    pub(crate) col: usize,
-}
-
-/// Splits a line into tokens, stopping at `#`. Also returns the column just past the last
-/// token, for "missing number" errors. Shared with the other line formats (`*.profile`).
-pub(crate) fn tokenize(line: &str) -> (Vec<Tok<'_>>, usize) {
-    let mut toks = Vec::new();
-    let mut start: Option<(usize, usize)> = None;
-    let mut col = 0;
-    let mut end_col = 1;
-    for (byte, c) in line.char_indices() {
-        col += 1;
-        if c == '#' || c.is_whitespace() {
-            if let Some((b, cl)) = start.take() {
-                toks.push(Tok { text: &line[b..byte], col: cl });
-                end_col = col;
-            }
-            if c == '#' {
-                return (toks, end_col);
-            }
-        } else if start.is_none() {
-            start = Some((byte, col));
-        }
-    }
-    if let Some((b, cl)) = start {
-        toks.push(Tok { text: &line[b..], col: cl });
-        end_col = col + 1;
-    }
-    (toks, end_col)
 }
 
 /// A `start` line waiting for its `goal`.
@@ -292,11 +256,7 @@ impl<'f> Parser<'f> {
     }
 
     fn number(&self, line: usize, tok: Tok<'_>) -> Result<f64, SourceError> {
-        match tok.text.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(_) => Err(self.err(line, tok.col, format!("`{}` is not a finite number", tok.text))),
-            Err(_) => Err(self.err(line, tok.col, format!("expected a number, found `{}`", tok.text))),
-        }
+        tok.number(self.file, line)
     }
 
     fn positive(&self, line: usize, tok: Tok<'_>, value: f64, what: &str) -> Result<f64, SourceError> {
@@ -582,17 +542,6 @@ impl<'f> Parser<'f> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn tokens_and_columns() {
-        let (t, end) = tokenize("  box\t1 2  # c");
-        let cols: Vec<(usize, &str)> = t.iter().map(|t| (t.col, t.text)).collect();
-        assert_eq!(cols, vec![(3, "box"), (7, "1"), (9, "2")]);
-        assert_eq!(end, 10);
-        let (t, end) = tokenize("start 1 2");
-        assert_eq!(t.len(), 3);
-        assert_eq!(end, 10);
-    }
 
     #[test]
     fn a_barn_world_keeps_its_reference_and_scores_episodes() {

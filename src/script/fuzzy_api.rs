@@ -61,7 +61,7 @@ fn number(value: &Dynamic, what: &str) -> Res<f64> {
         return Ok(i as f64);
     }
     if let Some(s) = value.clone().try_cast::<ImmutableString>()
-        && let Some(v) = fll::parse_number(&s)
+        && let Some(v) = crate::lex::parse_number(&s)
     {
         return Ok(v);
     }

@@ -23,6 +23,7 @@ use glam::DVec2;
 
 use crate::diagnostic::SourceError;
 use crate::geom::Aabb;
+use crate::lex::{Tok, words};
 
 /// First line of a trajectory file.
 pub const MAGIC: &str = "# strider snapshot trajectory 1";
@@ -85,11 +86,6 @@ pub fn to_text(about: &str, record: &Record) -> String {
     s
 }
 
-/// The whitespace-separated fields of `line` with their 1-based columns.
-fn fields(line: &str) -> Vec<(usize, &str)> {
-    line.split_whitespace().map(|f| (f.as_ptr() as usize - line.as_ptr() as usize + 1, f)).collect()
-}
-
 /// Reads a trajectory file written by [`to_text`]; errors name `file`, line and column.
 pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
     let mut lines = text.lines().enumerate();
@@ -100,14 +96,13 @@ pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
     let mut record = Record { view: None, samples: Vec::new() };
     for (n, line) in lines {
         let line_no = n + 1;
-        let real = |(col, f): (usize, &str), what: &str| -> Result<f64, SourceError> {
-            f.parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| SourceError::new(file, line_no, col, format!("{what} must be a number, found '{f}'")))
+        let real = |t: Tok, what: &str| -> Result<f64, SourceError> {
+            t.text.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
+                SourceError::new(file, line_no, t.col, format!("{what} must be a number, found '{}'", t.text))
+            })
         };
         if let Some(rest) = line.strip_prefix(VIEW) {
-            let f = fields(line);
+            let f = words(line);
             if f.len() != 6 {
                 return Err(SourceError::new(
                     file,
@@ -119,7 +114,7 @@ pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
             let (x0, y0) = (real(f[2], "x")?, real(f[3], "y")?);
             let (x1, y1) = (real(f[4], "x")?, real(f[5], "y")?);
             if !(x0 < x1 && y0 < y1) {
-                return Err(SourceError::new(file, line_no, f[2].0, "the view must be a non-empty region"));
+                return Err(SourceError::new(file, line_no, f[2].col, "the view must be a non-empty region"));
             }
             record.view = Some(Aabb::new(DVec2::new(x0, y0), DVec2::new(x1, y1)));
             continue;
@@ -127,7 +122,7 @@ pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
         if line.trim().is_empty() || line.trim_start().starts_with('#') {
             continue;
         }
-        let fields = fields(line);
+        let fields = words(line);
         if fields.len() != 6 {
             return Err(SourceError::new(
                 file,
@@ -136,8 +131,10 @@ pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
                 format!("expected step, time, x, y, heading and interval, found {} fields", fields.len()),
             ));
         }
-        let count = |(col, f): (usize, &str), what: &str| -> Result<usize, SourceError> {
-            f.parse::<usize>().map_err(|_| SourceError::new(file, line_no, col, format!("bad {what} '{f}'")))
+        let count = |t: Tok, what: &str| -> Result<usize, SourceError> {
+            t.text
+                .parse::<usize>()
+                .map_err(|_| SourceError::new(file, line_no, t.col, format!("bad {what} '{}'", t.text)))
         };
         let step = count(fields[0], "step")?;
         if record.samples.last().is_some_and(|p| p.step >= step) {
@@ -148,7 +145,7 @@ pub fn parse(text: &str, file: &str) -> Result<Record, SourceError> {
             time_s: real(fields[1], "time")?,
             position: DVec2::new(real(fields[2], "x")?, real(fields[3], "y")?),
             heading: real(fields[4], "heading")?,
-            interval: match fields[5].1 {
+            interval: match fields[5].text {
                 "-" => None,
                 _ => Some(count(fields[5], "interval")?),
             },
