@@ -12,8 +12,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use divan::{Bencher, black_box};
-use strider::footstep::profile::parse;
 use strider::footstep::{Course, Decision, FootstepParams, FootstepPlanner, PlannerMode};
+use strider::ground::parse;
 
 const PROFILES: [&str; 7] = ["stairs", "slope", "stepping_stones", "fig8_trap", "low_blocks", "gap_too_wide", "cliff"];
 

@@ -7,7 +7,8 @@
 //! `m + 1` values evenly spaced in `[s_min, s_max]`; [`legs`] generates the leg motion of each
 //! step with key frames, a cubic Bezier swing and two-link inverse kinematics (seed 002 §4.1).
 //!
-//! - [`profile`]: the ground profile, its queries, and the `*.profile` file format.
+//! - [`crate::ground`] (below this module, and below the world's terrain that cuts them):
+//!   the ground profile, its queries, and the `*.profile` file format.
 //! - [`foothold`]: where a sole may stand, and why a step fails ([`StepFailure`]).
 //! - [`legs`]: the key frames, the swing curve raised until it clears the ground, the pelvis
 //!   height and the leg poses of one step.
@@ -22,16 +23,15 @@
 pub mod foothold;
 pub mod legs;
 pub mod planner;
-pub mod profile;
 mod reach;
 
+pub use crate::ground::{Course, GroundPiece, GroundProfile, Hazard, ProfileError};
 pub use foothold::{Sole, StepFailure};
 pub use legs::{LegPose, StepKind, StepPose, Swing};
 pub use planner::{
     Decision, FootstepPlanner, PlanError, PlannedStep, PlannerMode, StepSet, StopReason, Walk, WalkOutcome, check_step,
     position_m, walk,
 };
-pub use profile::{Course, GroundPiece, GroundProfile, Hazard, ProfileError};
 
 use crate::anim::actor::{ANKLE_HEIGHT_M, FOOT_FORWARD_M, HEEL_BACK_M, PELVIS_HEIGHT_M, SHIN_M, THIGH_M};
 

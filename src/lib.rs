@@ -19,6 +19,7 @@ pub mod experiment;
 pub mod footstep;
 pub mod fuzzy;
 pub mod geom;
+pub mod ground;
 pub mod lex;
 pub mod maps;
 pub mod plan;

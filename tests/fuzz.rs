@@ -327,8 +327,8 @@ fn fuzz_fll() {
 /// planner (courses up to 30 m long; every step it takes passes the one step check).
 #[test]
 fn fuzz_profiles() {
-    use strider::footstep::{FootstepParams, PlannerMode, check_step, profile, walk};
-    fuzz("profile", |b| match profile::parse(&text_of(b), "p.profile") {
+    use strider::footstep::{FootstepParams, PlannerMode, check_step, walk};
+    fuzz("profile", |b| match strider::ground::parse(&text_of(b), "p.profile") {
         Ok(course) => {
             if (course.goal_m - course.start_m).abs() <= 30.0 {
                 let params = FootstepParams::default();

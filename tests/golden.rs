@@ -221,9 +221,10 @@ fn animated_character_footprints_and_poses() {
 
 /// The side view of a walk over `maps/profiles/fig8_trap.profile`, with the planner on or off.
 fn fig8_side_view(mode: strider::footstep::PlannerMode) -> (strider::footstep::Walk, Pixmap, SideTransform) {
-    use strider::footstep::{FootstepParams, profile, walk};
+    use strider::footstep::{FootstepParams, walk};
     use strider::render::side_view::{SideView, render_side_view};
-    let course = profile::parse(include_str!("../maps/profiles/fig8_trap.profile"), "fig8_trap.profile").unwrap();
+    let course =
+        strider::ground::parse(include_str!("../maps/profiles/fig8_trap.profile"), "fig8_trap.profile").unwrap();
     let params = FootstepParams::default();
     let w = walk(&course, params, mode).unwrap();
     let mut view = SideView::of_walk(course.ground.pieces(), &w.footholds, &w.steps, 4);

@@ -9,11 +9,11 @@ use std::process::{Command, Output, Stdio};
 
 use proptest::prelude::*;
 use strider::footstep::legs::SWING_SAMPLES;
-use strider::footstep::profile::parse;
 use strider::footstep::{
     Course, Foot, Foothold, FootstepParams, FootstepPlanner, GroundPiece, GroundProfile, PlanError, PlannerMode,
     StepSet, StopReason, Walk, WalkOutcome, check_step, position_m, walk,
 };
+use strider::ground::parse;
 use strider::rng::{stream, uniform};
 
 // ---------------------------------------------------------------------------------------------

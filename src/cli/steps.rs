@@ -16,8 +16,8 @@ use serde::Serialize;
 
 use super::{Failure, Outcome, write_atomic};
 use crate::diagnostic::SourceError;
-use crate::footstep::profile::{self, MAX_PROFILE_BYTES};
 use crate::footstep::{Course, Decision, FootstepParams, FootstepPlanner, PlannedStep, PlannerMode, WalkOutcome};
+use crate::ground::{self, MAX_PROFILE_BYTES};
 use crate::render::png::encode;
 use crate::render::side_view::{SideView, render_side_view};
 
@@ -129,7 +129,7 @@ pub fn read_profile(path: &std::path::Path) -> anyhow::Result<Course> {
             return Err(SourceError::new(&name, line, col, "not UTF-8 text").into());
         }
     };
-    Ok(profile::parse(text, &name)?)
+    Ok(ground::parse(text, &name)?)
 }
 
 /// Walks the course, timing each call into the planner.

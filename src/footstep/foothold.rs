@@ -13,7 +13,7 @@ use std::fmt;
 use glam::DVec2;
 
 use super::FootstepParams;
-use super::profile::{GroundProfile, Unsupported};
+use crate::ground::{GroundProfile, Unsupported};
 
 /// How far the ground may rise above the sole's line, metres: a numerical tolerance only — a
 /// rigid sole does not stand across a crest.
@@ -187,7 +187,7 @@ pub fn height_change(params: &FootstepParams, from: &Sole, to: &Sole) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::footstep::profile::GroundPiece;
+    use crate::ground::GroundPiece;
 
     fn ground(pieces: &[(f64, f64, f64, f64)]) -> GroundProfile {
         GroundProfile::new(

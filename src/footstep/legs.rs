@@ -34,9 +34,9 @@
 use glam::DVec2;
 
 use super::foothold::{Sole, StepFailure};
-use super::profile::GroundProfile;
 use super::{FootstepParams, LegGeometry};
 use crate::geom::smoothstep;
+use crate::ground::GroundProfile;
 
 /// Samples at which a swing is checked and the phases `i / SWING_SAMPLES` its curve is
 /// reported at.
@@ -354,7 +354,7 @@ impl Swing {
 mod tests {
     use super::*;
     use crate::footstep::foothold::sole_at;
-    use crate::footstep::profile::GroundPiece;
+    use crate::ground::GroundPiece;
 
     fn ground(pieces: &[(f64, f64, f64, f64)]) -> GroundProfile {
         GroundProfile::new(

@@ -30,9 +30,9 @@ use std::fmt;
 
 use super::foothold::{Sole, StepFailure, height_change, sole_at};
 use super::legs::{Swing, can_stand};
-use super::profile::{Course, GroundProfile, Hazard, ProfileError};
 use super::reach::{Reachability, State, StepModel};
 use super::{Foot, Foothold, FootstepParams, ParamsError};
+use crate::ground::{Course, GroundProfile, Hazard, ProfileError};
 
 /// The position of a foothold `offset_um` micrometres from `start_m`, metres.
 pub fn position_m(start_m: f64, offset_um: i64) -> f64 {
@@ -673,7 +673,7 @@ pub fn walk(course: &Course, params: FootstepParams, mode: PlannerMode) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::footstep::profile::{GroundPiece, parse};
+    use crate::ground::{GroundPiece, parse};
 
     fn course(text: &str) -> Course {
         parse(text, "t.profile").unwrap()

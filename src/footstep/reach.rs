@@ -18,8 +18,8 @@ use super::StepFailure;
 use super::foothold::{Sole, height_change, sole_at};
 use super::legs::{Swing, can_stand};
 use super::planner::{StepSet, check_soles};
-use super::profile::GroundProfile;
 use super::{FootstepParams, planner::position_m};
+use crate::ground::GroundProfile;
 
 /// Footholds (rear, front), micrometres from the start.
 pub(crate) type State = (i64, i64);

@@ -289,8 +289,8 @@ pub fn render_side_view(view: &SideView) -> (Pixmap, SideTransform) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::footstep::profile::parse;
     use crate::footstep::{FootstepParams, PlannerMode, planner::walk};
+    use crate::ground::parse;
 
     fn colour_at(pm: &Pixmap, p: DVec2) -> (u8, u8, u8) {
         let c = pm.pixel(p.x.round() as u32, p.y.round() as u32).unwrap().demultiply();

@@ -26,8 +26,8 @@ use std::fmt;
 
 use glam::DVec2;
 
-use crate::footstep::profile::{GroundPiece, GroundProfile};
 use crate::geom::Shape;
+use crate::ground::{GroundPiece, GroundProfile};
 use crate::world::obstacle::{Obstacle, ObstacleShape};
 
 /// Highest obstacle top that still counts as ground to step onto or over, metres (the default

@@ -1,5 +1,7 @@
 //! The ground profile (seed 002 §3.2: the ground under the path, cut by the character's
 //! sagittal plane) and the `*.profile` file that describes one for the footstep planner alone.
+//! It sits below both sides of that cut: the world's terrain makes profiles
+//! ([`crate::world::Terrain::profile`]), the footstep planner ([`crate::footstep`]) walks them.
 //!
 //! A profile is a list of straight pieces of supported ground along X, in increasing X. Two
 //! pieces may meet (end to start within [`JOIN_TOLERANCE_M`]): at the same height they join
