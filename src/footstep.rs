@@ -9,9 +9,10 @@
 //!
 //! - [`crate::ground`] (below this module, and below the world's terrain that cuts them):
 //!   the ground profile, its queries, and the `*.profile` file format.
-//! - [`foothold`]: where a sole may stand, and why a step fails ([`StepFailure`]).
+//! - [`foothold`]: which foot, where a sole may stand, and why a step fails ([`StepFailure`]).
 //! - [`legs`]: the key frames, the swing curve raised until it clears the ground, the pelvis
 //!   height and the leg poses of one step.
+//! - [`step`]: the step set and [`check_step`], the one definition of a valid step.
 //! - [`planner`]: the sliding-window planner, its exhaustive look-ahead, and whole walks.
 //!
 //! **Invariants.** Every foothold the planner returns holds the whole sole on ground no steeper
@@ -24,60 +25,17 @@ pub mod foothold;
 pub mod legs;
 pub mod planner;
 mod reach;
+pub mod step;
 
 pub use crate::ground::{Course, GroundPiece, GroundProfile, Hazard, ProfileError};
-pub use foothold::{Sole, StepFailure};
+pub use foothold::{Foot, Foothold, Sole, StepFailure};
 pub use legs::{LegPose, StepKind, StepPose, Swing};
 pub use planner::{
-    Decision, FootstepPlanner, PlanError, PlannedStep, PlannerMode, StepSet, StopReason, Walk, WalkOutcome, check_step,
-    position_m, walk,
+    Decision, FootstepPlanner, PlanError, PlannedStep, PlannerMode, StopReason, Walk, WalkOutcome, walk,
 };
+pub use step::{StepSet, check_step, position_m};
 
 use crate::anim::actor::{ANKLE_HEIGHT_M, FOOT_FORWARD_M, HEEL_BACK_M, PELVIS_HEIGHT_M, SHIN_M, THIGH_M};
-
-/// Which foot.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Foot {
-    /// The left foot (the first to swing).
-    Left,
-    /// The right foot.
-    Right,
-}
-
-impl Foot {
-    /// The other foot.
-    pub fn other(self) -> Foot {
-        match self {
-            Foot::Left => Foot::Right,
-            Foot::Right => Foot::Left,
-        }
-    }
-
-    /// 0 for the left foot, 1 for the right (the order of the skeleton's sides).
-    pub fn index(self) -> usize {
-        match self {
-            Foot::Left => 0,
-            Foot::Right => 1,
-        }
-    }
-
-    /// `"left"` or `"right"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Foot::Left => "left",
-            Foot::Right => "right",
-        }
-    }
-}
-
-/// A foot standing on the ground.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Foothold {
-    /// Which foot.
-    pub foot: Foot,
-    /// The sole: its centre (the foothold's `x`, and the ground height there) and pitch.
-    pub sole: Sole,
-}
 
 /// The sagittal geometry of a leg and its foot. Distances in metres. Defaults: the built-in
 /// actor ([`crate::anim::actor`]).

@@ -22,6 +22,50 @@ pub const SOLE_CONFORMITY_M: f64 = 1e-6;
 /// Tolerance on the height limits, metres (a step exactly at the limit is allowed).
 const LIMIT_TOLERANCE_M: f64 = 1e-9;
 
+/// Which foot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Foot {
+    /// The left foot (the first to swing).
+    Left,
+    /// The right foot.
+    Right,
+}
+
+impl Foot {
+    /// The other foot.
+    pub fn other(self) -> Foot {
+        match self {
+            Foot::Left => Foot::Right,
+            Foot::Right => Foot::Left,
+        }
+    }
+
+    /// 0 for the left foot, 1 for the right (the order of the skeleton's sides).
+    pub fn index(self) -> usize {
+        match self {
+            Foot::Left => 0,
+            Foot::Right => 1,
+        }
+    }
+
+    /// `"left"` or `"right"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Foot::Left => "left",
+            Foot::Right => "right",
+        }
+    }
+}
+
+/// A foot standing on the ground.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Foothold {
+    /// Which foot.
+    pub foot: Foot,
+    /// The sole: its centre (the foothold's `x`, and the ground height there) and pitch.
+    pub sole: Sole,
+}
+
 /// A sole in the sagittal plane: its centre and its pitch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sole {

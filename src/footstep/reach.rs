@@ -14,11 +14,10 @@
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 
-use super::StepFailure;
-use super::foothold::{Sole, height_change, sole_at};
+use super::FootstepParams;
+use super::foothold::{Sole, StepFailure, height_change, sole_at};
 use super::legs::{Swing, can_stand};
-use super::planner::{StepSet, check_soles};
-use super::{FootstepParams, planner::position_m};
+use super::step::{StepSet, check_soles, position_m};
 use crate::ground::GroundProfile;
 
 /// Footholds (rear, front), micrometres from the start.
