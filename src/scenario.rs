@@ -77,7 +77,7 @@ impl Scenario {
     }
 
     /// The world the tasks run in, its obstacles sorted into three bands ([`Band`]):
-    /// obstacles low enough to step onto or over ([`Terrain::is_low`]) are part of its terrain,
+    /// obstacles low enough to step onto or over ([`Obstacle::is_low`]) are part of its terrain,
     /// not walls; obstacles above the legs ([`Band::Upper`]) are the upper body's
     /// ([`World::overhead`]); the rest are the navigation's walls.
     pub fn world(&self) -> World {

@@ -59,6 +59,9 @@ pub struct Obstacle {
 /// Default vertical extent of obstacles, metres (taller than a person).
 pub const DEFAULT_Z: (f64, f64) = (0.0, 2.0);
 
+/// Highest obstacle top that still counts as ground to step onto or over, metres (the default
+/// step-up limit of a person, [`crate::footstep::FootstepParams::max_step_up_m`]).
+pub const STEP_ONTO_MAX_Z_M: f64 = 0.45;
 /// Lowest bottom of an obstacle that leaves the legs and the pelvis room beneath it, metres:
 /// from here up an obstacle belongs to the upper body (seed 002 §5), which bends, twists and
 /// moves the arms past it; the 2-D navigation does not see it.
@@ -71,7 +74,7 @@ pub const BODY_TOP_M: f64 = 1.75;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Band {
     /// Low enough to step onto or over: terrain for the footstep planner
-    /// ([`super::Terrain::is_low`]).
+    /// ([`Obstacle::is_low`]).
     Ground,
     /// In the way of the legs: an obstacle for the 2-D navigation.
     Legs,
@@ -83,13 +86,19 @@ pub enum Band {
 impl Obstacle {
     /// The planner this obstacle belongs to.
     pub fn band(&self) -> Band {
-        if super::Terrain::is_low(self) {
+        if self.is_low() {
             Band::Ground
         } else if self.z_min >= UPPER_BAND_MIN_Z_M {
             Band::Upper
         } else {
             Band::Legs
         }
+    }
+
+    /// Whether the obstacle is low enough to be ground: its bottom on the ground and its top at
+    /// most [`STEP_ONTO_MAX_Z_M`].
+    pub fn is_low(&self) -> bool {
+        self.z_min <= 0.0 && self.z_max <= STEP_ONTO_MAX_Z_M
     }
 
     /// Builds an obstacle from its description and vertical extent.

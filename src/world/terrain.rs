@@ -9,9 +9,10 @@
 //! equal treads along that axis, tread `k` (from the −x side) at `z0 + (z1 − z0)·(k + 1)/(n + 1)`,
 //! so ground at `z0` before them and at `z1` after them is reached by `n + 1` equal risers.
 //!
-//! Obstacles whose top is at most [`STEP_ONTO_MAX_Z_M`] above the ground (and whose bottom is
-//! on it) are no walls: [`Terrain::with_low_obstacles`] turns them into platforms at their
-//! `z_max`, to be stepped onto or over.
+//! Obstacles whose top is at most [`STEP_ONTO_MAX_Z_M`](super::obstacle::STEP_ONTO_MAX_Z_M)
+//! above the ground (and whose bottom is on it) are no walls ([`Obstacle::is_low`]):
+//! [`Terrain::with_low_obstacles`] turns them into platforms at their `z_max`, to be stepped
+//! onto or over.
 //!
 //! [`Terrain::profile`] cuts the terrain with a vertical plane — the character's sagittal
 //! plane along its path — into the 1-D [`GroundProfile`] of the footstep planner: the exact
@@ -30,9 +31,6 @@ use crate::geom::Shape;
 use crate::ground::{GroundPiece, GroundProfile};
 use crate::world::obstacle::{Obstacle, ObstacleShape};
 
-/// Highest obstacle top that still counts as ground to step onto or over, metres (the default
-/// step-up limit of a person, [`crate::footstep::FootstepParams::max_step_up_m`]).
-pub const STEP_ONTO_MAX_Z_M: f64 = 0.45;
 /// Largest number of treads of one flight of stairs.
 pub const MAX_STAIR_TREADS: usize = 1000;
 /// Largest terrain height magnitude accepted, metres.
@@ -197,17 +195,11 @@ impl Terrain {
         self.features().is_empty()
     }
 
-    /// Whether an obstacle is low enough to be ground: its bottom on the ground and its top at
-    /// most [`STEP_ONTO_MAX_Z_M`].
-    pub fn is_low(obstacle: &Obstacle) -> bool {
-        obstacle.z_min <= 0.0 && obstacle.z_max <= STEP_ONTO_MAX_Z_M
-    }
-
-    /// This terrain with the low obstacles among `obstacles` ([`Terrain::is_low`]) laid over it
+    /// This terrain with the low obstacles among `obstacles` ([`Obstacle::is_low`]) laid over it
     /// as platforms at their tops.
     pub fn with_low_obstacles(&self, obstacles: &[Obstacle]) -> Terrain {
         let mut features = self.features().to_vec();
-        for o in obstacles.iter().filter(|o| Terrain::is_low(o)) {
+        for o in obstacles.iter().filter(|o| o.is_low()) {
             features.push(TerrainFeature {
                 shape: o.shape.clone(),
                 kind: FeatureKind::Platform { z_m: o.z_max },
