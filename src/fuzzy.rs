@@ -2,8 +2,8 @@
 //! terms, hedges, T-norms / S-norms, rule blocks, activation methods and defuzzifiers, for
 //! Mamdani, Larsen, Takagi-Sugeno, Tsukamoto and hybrid engines, with FLL import/export.
 //!
-//! Layout: [`engine`] is the plain-data description, [`rule`] the rule grammar, [`fll`] the
-//! FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
+//! Layout: [`engine`] is the plain-data description, [`variable`] its linguistic variables,
+//! [`rule`] the rule grammar, [`fll`] the FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
 //! used to check it. Several engines are layered with [`Network`]. The module does no IO.
 
 pub mod defuzz;
@@ -15,13 +15,12 @@ pub mod norm;
 pub mod reference;
 pub mod rule;
 pub mod term;
+pub mod variable;
 
-pub use engine::{
-    Activation, Comparison, Defuzzifier, Engine, EngineError, EngineKind, InputVariable, Item, NamedTerm,
-    OutputVariable, RuleBlock, WeightedKind,
-};
+pub use engine::{Activation, Comparison, Engine, EngineError, EngineKind, Item, RuleBlock};
 pub use inference::{Inference, RuleActivation};
 pub use network::Network;
 pub use norm::{Hedge, SNorm, TNorm};
 pub use rule::Rule;
 pub use term::Term;
+pub use variable::{Defuzzifier, InputVariable, NamedTerm, OutputVariable, WeightedKind};

@@ -14,8 +14,8 @@
 //! deep and holds at most [`MAX_PROPOSITIONS`] propositions, so every walk over it (parsing,
 //! compiling, printing, dropping) has bounded depth whatever the input text.
 
-use super::engine::{InputVariable, OutputVariable};
 use super::norm::Hedge;
+use super::variable::{InputVariable, OutputVariable};
 
 /// Deepest nesting of parentheses in a rule's antecedent.
 pub const MAX_NESTING: usize = 64;
