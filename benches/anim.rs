@@ -54,8 +54,8 @@ fn choose_next_interval(bencher: Bencher) {
     let world = scenario.world();
     let rules = include_str!("../scripts/nav.rhai");
     let log = strider::script::ScriptLog::new();
-    let engines = strider::script::fuzzy_api::load_engines(rules, "nav.rhai", strider::script::Limits::default(), &log)
-        .expect("rules");
+    let engines =
+        strider::script::load_engines(rules, "nav.rhai", strider::script::Limits::default(), &log).expect("rules");
     let controller = LayeredController::new(&engines, ControllerParams::default()).expect("controller");
     let params = StepParameters { animation: Some(anim), ..StepParameters::default() };
     let mut sim = Simulation::new(world.clone(), params);

@@ -10,7 +10,7 @@
 use divan::{Bencher, black_box};
 use strider::fuzzy::reference::Reference;
 use strider::fuzzy::{Defuzzifier, Engine, Inference, fll};
-use strider::script::{Limits, ScriptLog, fuzzy_api};
+use strider::script::{Limits, ScriptLog, load_engines};
 
 fn main() {
     divan::main();
@@ -18,7 +18,7 @@ fn main() {
 
 fn nav_engine() -> Engine {
     let source = include_str!("../scripts/simple_nav.rhai");
-    fuzzy_api::load_engines(source, "scripts/simple_nav.rhai", Limits::default(), &ScriptLog::new())
+    load_engines(source, "scripts/simple_nav.rhai", Limits::default(), &ScriptLog::new())
         .expect("default navigation script")
         .remove(0)
 }

@@ -3,7 +3,7 @@
 
 use divan::{Bencher, black_box};
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
 use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
 
 fn main() {
@@ -13,11 +13,10 @@ fn main() {
 fn setup() -> (Scenario, LayeredController) {
     let log = ScriptLog::new();
     let scenario =
-        map_api::load_scenario(include_str!("../maps/cluttered.rhai"), "maps/cluttered.rhai", Limits::default(), &log)
+        load_scenario(include_str!("../maps/cluttered.rhai"), "maps/cluttered.rhai", Limits::default(), &log)
             .expect("cluttered map");
-    let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
-            .expect("navigation rules");
+    let engines = load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
+        .expect("navigation rules");
     (scenario, LayeredController::new(&engines, ControllerParams::default()).expect("controller"))
 }
 

@@ -15,7 +15,7 @@ use std::time::Instant;
 use divan::{Bencher, black_box};
 use strider::experiment::run_episode;
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, map_api};
+use strider::script::{Limits, ScriptLog, load_scenario};
 use strider::sim::footing::{Stopwatch, StopwatchHandle};
 use strider::sim::{AnimationHandle, LayeredController, StepParameters};
 
@@ -32,7 +32,7 @@ impl Stopwatch for Wall {
 fn scene(name: &str) -> Scenario {
     let path = format!("{}/maps/upper_{name}.rhai", env!("CARGO_MANIFEST_DIR"));
     let src = std::fs::read_to_string(&path).expect("shipped scene");
-    map_api::load_scenario(&src, &path, Limits::default(), &ScriptLog::new()).expect("valid scene")
+    load_scenario(&src, &path, Limits::default(), &ScriptLog::new()).expect("valid scene")
 }
 
 fn controller() -> LayeredController {

@@ -17,7 +17,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use strider::fuzzy::{Defuzzifier, Engine, Inference, fll};
-use strider::script::{Limits, ScriptLog, fuzzy_api};
+use strider::script::{Limits, ScriptLog, load_engines};
 
 const ROWS: usize = 4096;
 const CHECKS: usize = 4;
@@ -34,8 +34,7 @@ impl Lcg {
 fn load(path: &str) -> Result<Engine, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     if path.ends_with(".rhai") {
-        let mut engines =
-            fuzzy_api::load_engines(&text, path, Limits::default(), &ScriptLog::new()).map_err(|e| e.to_string())?;
+        let mut engines = load_engines(&text, path, Limits::default(), &ScriptLog::new()).map_err(|e| e.to_string())?;
         if engines.len() != 1 {
             return Err(format!("{path}: one engine expected, found {}", engines.len()));
         }

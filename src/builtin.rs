@@ -5,7 +5,7 @@
 
 use crate::anim::policy::{Policy, PolicyError};
 use crate::anim::{Database, DbError};
-use crate::script::{Limits, ScriptLog, fuzzy_api};
+use crate::script::{Limits, ScriptLog, load_engines};
 use crate::sim::{Animation, ControllerParams, LayeredController};
 
 /// The default navigation rules: the layered fuzzy network of `scripts/nav.rhai`.
@@ -47,7 +47,7 @@ pub fn animation() -> Result<Animation, String> {
 /// The layered controller of [`DEFAULT_RULES`] with default parameters (what the rules print
 /// goes nowhere).
 pub fn controller() -> Result<LayeredController, String> {
-    let engines = fuzzy_api::load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &ScriptLog::new())
+    let engines = load_engines(DEFAULT_RULES, DEFAULT_RULES_FILE, Limits::default(), &ScriptLog::new())
         .map_err(|e| e.to_string())?;
     LayeredController::new(&engines, ControllerParams::default())
 }

@@ -121,7 +121,7 @@ pub fn fig2_environments() -> Result<Vec<Environment>, String> {
     maps.into_iter()
         .map(|(name, text, file, density)| {
             let log = crate::script::ScriptLog::new();
-            let scenario = crate::script::map_api::load_scenario(text, file, crate::script::Limits::default(), &log)
+            let scenario = crate::script::load_scenario(text, file, crate::script::Limits::default(), &log)
                 .map_err(|e| e.to_string())?;
             Ok(Environment {
                 name: name.to_string(),

@@ -1,8 +1,11 @@
-//! Rhai scripting host: the one hardened Rhai engine constructor of the project and the
-//! conversion of script failures into [`SourceError`]s (DESIGN.md §7).
+//! Rhai scripting host: the one hardened Rhai engine constructor of the project, the
+//! conversion of script failures into [`SourceError`]s (DESIGN.md §7), and the loaders that
+//! run a script and take what it built: [`load_engines`] (fuzzy engines, [`fuzzy_api`]) and
+//! [`load_scenario`] (a world and its tasks, [`map_api`]). The host sits above both APIs: it
+//! registers them, and they know nothing of it.
 //!
-//! Scripts only *build* plain Rust data (fuzzy engines here; maps and tasks later) that the
-//! core validates; nothing on a hot path ever calls back into a script.
+//! Scripts only *build* plain Rust data (fuzzy engines, maps and tasks) that the core
+//! validates; nothing on a hot path ever calls back into a script.
 //!
 //! Invariant: every script runs under [`Limits`] (operations, call depth, expression depth,
 //! string/array/map sizes), without `eval`, without module import, without a clock, and its
@@ -15,6 +18,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use crate::diagnostic::SourceError;
+use crate::fuzzy::Engine;
+use crate::scenario::Scenario;
 
 /// Hard limits for one script run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -156,6 +161,52 @@ pub fn run(source: &str, file: &str, limits: Limits, log: &ScriptLog) -> Result<
         SourceError::new(file, pos.line().unwrap_or(0), pos.position().unwrap_or(0), text)
     })?;
     engine.eval_ast::<rhai::Dynamic>(&ast).map_err(|e| script_error(file, &e))
+}
+
+/// Runs a script that builds fuzzy engines and returns them, validated.
+pub fn load_engines(source: &str, file: &str, limits: Limits, log: &ScriptLog) -> Result<Vec<Engine>, SourceError> {
+    let value = run(source, file, limits, log)?;
+    let engines = engines_from(value).map_err(|m| SourceError::new(file, 0, 0, m))?;
+    for e in &engines {
+        e.validate().map_err(|err| SourceError::new(file, 0, 0, format!("engine '{}': {}", e.name, err.message)))?;
+    }
+    Ok(engines)
+}
+
+/// The engines a script's final value holds: one engine, or an array of engines.
+pub fn engines_from(value: rhai::Dynamic) -> Result<Vec<Engine>, String> {
+    if let Some(e) = value.clone().try_cast::<fuzzy_api::EngineHandle>() {
+        return Ok(vec![fuzzy_api::engine_of(&e)]);
+    }
+    if let Some(items) = value.clone().try_cast::<rhai::Array>() {
+        let mut out = Vec::new();
+        for (i, item) in items.into_iter().enumerate() {
+            match item.clone().try_cast::<fuzzy_api::EngineHandle>() {
+                Some(e) => out.push(fuzzy_api::engine_of(&e)),
+                None => {
+                    return Err(format!(
+                        "item {} of the returned array is {}, not a fuzzy engine",
+                        i + 1,
+                        value_kind(&item)
+                    ));
+                }
+            }
+        }
+        if !out.is_empty() {
+            return Ok(out);
+        }
+    }
+    let hint = if value.is::<map_api::MapHandle>() { " (is this a map given as rules?)" } else { "" };
+    Err(format!("the script must end with a fuzzy engine or an array of them, found {}{hint}", value_kind(&value)))
+}
+
+/// Runs a map script and returns its validated scenario.
+pub fn load_scenario(source: &str, file: &str, limits: Limits, log: &ScriptLog) -> Result<Scenario, SourceError> {
+    let value = run(source, file, limits, log)?;
+    let handle = value.clone().try_cast::<map_api::MapHandle>().ok_or_else(|| {
+        SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", value_kind(&value)))
+    })?;
+    handle.scenario(file)
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use strider::anim::{Database, Ground};
 use strider::builtin::{self, DEFAULT_POLICY};
 use strider::cli::anim::{load_database, parse_intervals, save_database};
 use strider::experiment::run_episode;
-use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
 use strider::sim::{
     AnimatedBody, Animation, AnimationHandle, Body, Command, ControllerParams, LayeredController, OpenSpace,
     StepParameters, Surroundings, measure_tracking,
@@ -133,16 +133,14 @@ fn hand_written_interval_lists() {
 
 fn controller() -> LayeredController {
     let log = ScriptLog::new();
-    let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
+    let engines = load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
     LayeredController::new(&engines, ControllerParams::default()).unwrap()
 }
 
 #[test]
 fn animated_navigation_is_collision_free_and_deterministic() {
     let log = ScriptLog::new();
-    let scenario =
-        map_api::load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
+    let scenario = load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
     let world = scenario.world();
     let params = StepParameters { animation: Some(AnimationHandle(animation())), ..StepParameters::default() };
     let c = controller();

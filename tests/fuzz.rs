@@ -24,7 +24,7 @@ use strider::anim::policy::{Errors, LearnParams, Policy, StateGrid};
 use strider::anim::{Database, DbParams, rig};
 use strider::fuzzy::{Inference, Rule, fll};
 use strider::maps::{movingai, text};
-use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
 
 /// Cases per target in a plain `cargo test`.
 const SMOKE_CASES: u32 = 1000;
@@ -371,7 +371,7 @@ fn fuzz_rules() {
 fn fuzz_rhai_rule_scripts() {
     fuzz("rhai_rules", |b| {
         let log = ScriptLog::new();
-        match fuzzy_api::load_engines(&text_of(b), "r.rhai", Limits::default(), &log) {
+        match load_engines(&text_of(b), "r.rhai", Limits::default(), &log) {
             Ok(engines) => engines.iter().try_for_each(exercise_engine).map(|_| true),
             Err(e) => located(&e, "r.rhai").map(|_| false),
         }
@@ -382,7 +382,7 @@ fn fuzz_rhai_rule_scripts() {
 fn fuzz_rhai_map_scripts() {
     fuzz("rhai_map", |b| {
         let log = ScriptLog::new();
-        match map_api::load_scenario(&text_of(b), "m.rhai", Limits::default(), &log) {
+        match load_scenario(&text_of(b), "m.rhai", Limits::default(), &log) {
             Ok(s) => {
                 let written = text::write(&s);
                 let back = text::parse(&written, "written.txt");
@@ -533,7 +533,7 @@ fn fuzz_policies() {
 #[test]
 fn regression_a_cylinder_of_zero_radius_is_refused_by_every_importer() {
     let script = "let m = world(\"w\");\nm.start(0.0, 0.0, 0.0);\nm.goal(9.0, 0.0, 0.5);\nm.cylinder(2.0, 0.7, 0);\nm";
-    let e = map_api::load_scenario(script, "m.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+    let e = load_scenario(script, "m.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
     assert_eq!(e.line, 4, "{e}");
     assert!(e.message.contains("radius"), "{e}");
     let e = text::parse("start 0 0\ngoal 9 0\ncyl 2 0.7 0\n", "w.txt").unwrap_err();

@@ -14,7 +14,7 @@ use strider::maps::kind::{self, WorldKind};
 use strider::maps::maze::{self, CORRIDOR_WIDTH_M};
 use strider::maps::text;
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, map_api};
+use strider::script::{Limits, ScriptLog, load_scenario};
 use strider::tui::MapSpec;
 use strider::world::World;
 
@@ -27,7 +27,7 @@ fn strider(args: &[&str]) -> Output {
 fn map(name: &str) -> Scenario {
     let path = format!("{}/maps/{name}.rhai", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
-    map_api::load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
+    load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
 }
 
 /// Whether every task's start and goal are joined for the agent's disc, checked by the flood

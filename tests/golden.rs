@@ -161,15 +161,13 @@ fn empty_world_one_agent() {
 #[test]
 fn u_trap_episode_final_frame() {
     use strider::render::sim_view::scene_of;
-    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
     use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
     let log = ScriptLog::new();
     let scenario =
-        map_api::load_scenario(include_str!("../maps/u_trap.rhai"), "maps/u_trap.rhai", Limits::default(), &log)
-            .unwrap();
+        load_scenario(include_str!("../maps/u_trap.rhai"), "maps/u_trap.rhai", Limits::default(), &log).unwrap();
     let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
-            .unwrap();
+        load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log).unwrap();
     let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
     let mut sim = Simulation::new(scenario.world(), StepParameters::default());
     sim.add_agent(scenario.tasks[0], &controller);
@@ -190,14 +188,12 @@ fn animated_character_footprints_and_poses() {
     use strider::render::png::PngPainter;
     use strider::render::poses::draw_strip;
     use strider::render::sim_view::{scene_of, strip_pose_of};
-    use strider::script::{Limits, ScriptLog, fuzzy_api, map_api};
+    use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
     use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
 
     let log = ScriptLog::new();
-    let scenario =
-        map_api::load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
-    let engines =
-        fuzzy_api::load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
+    let scenario = load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
+    let engines = load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
     let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
     let db = builtin::database().unwrap();
     let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();

@@ -7,7 +7,7 @@ use std::cell::Cell;
 
 use strider::fuzzy::{Activation, Defuzzifier, Engine, Inference, InputVariable, OutputVariable, RuleBlock, Term};
 use strider::fuzzy::{NamedTerm, WeightedKind, fll};
-use strider::script::{Limits, ScriptLog, fuzzy_api};
+use strider::script::{Limits, ScriptLog, load_engines};
 
 struct Counting;
 
@@ -74,7 +74,7 @@ fn process_allocates_nothing() {
     }
     for script in ["scripts/simple_nav.rhai", "scripts/nav.rhai"] {
         let text = std::fs::read_to_string(format!("{root}/{script}")).unwrap();
-        engines.extend(fuzzy_api::load_engines(&text, script, Limits::default(), &ScriptLog::new()).unwrap());
+        engines.extend(load_engines(&text, script, Limits::default(), &ScriptLog::new()).unwrap());
     }
     let specials = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1e300, 0.0];
     for engine in &engines {

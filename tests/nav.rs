@@ -6,7 +6,7 @@ use std::process::{Command, Output};
 use strider::experiment::{self, Job};
 use strider::maps::generate::{Density, random_world};
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, map_api};
+use strider::script::{Limits, ScriptLog, load_scenario};
 use strider::sim::{LayeredController, Simulation, StepParameters};
 
 fn controller() -> LayeredController {
@@ -16,7 +16,7 @@ fn controller() -> LayeredController {
 fn map(name: &str) -> Scenario {
     let path = format!("{}/maps/{name}.rhai", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
-    map_api::load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
+    load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
 }
 
 fn strider(args: &[&str]) -> Output {

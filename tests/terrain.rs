@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 use strider::maps::text;
-use strider::script::{Limits, ScriptLog, map_api};
+use strider::script::{Limits, ScriptLog, load_scenario};
 use strider::world::terrain::FeatureKind;
 
 const TERRAIN_TEXT: &str = "\
@@ -72,7 +72,7 @@ fn rhai_maps_carry_terrain() {
         m.hole([[18, -1], [19, -1], [19, 1]]);
         m
     "#;
-    let s = map_api::load_scenario(src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+    let s = load_scenario(src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
     assert_eq!(s.terrain.features().len(), 8);
     assert_eq!(s.world().terrain.ground(DVec2::new(16.0, 0.0)), Some(0.05));
     let bad = r#"
@@ -82,7 +82,7 @@ fn rhai_maps_carry_terrain() {
         m.stairs(11.0, 0.0, 3.0, 2.0, 0.0, 0.4, 0.0, 0);
         m
     "#;
-    let e = map_api::load_scenario(bad, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+    let e = load_scenario(bad, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
     assert_eq!(e.line, 5, "{e}");
     assert!(e.message.contains("treads"), "{e}");
 }
@@ -91,7 +91,7 @@ fn rhai_maps_carry_terrain() {
 fn footstep_parameters_come_from_the_map_script() {
     let base = "let m = world(\"t\");\nm.start(0.0, 0.0, 0.0);\nm.goal(10.0, 0.0, 0.5);\n";
     let ok = format!("{base}m.footsteps(#{{ window_steps: 2, intervals: 8, step_max_m: 0.8 }});\nm\n");
-    let s = map_api::load_scenario(&ok, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+    let s = load_scenario(&ok, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap();
     assert_eq!((s.footsteps.window_steps, s.footsteps.intervals, s.footsteps.step_max_m), (2, 8, 0.8));
     assert_eq!(s.world().footsteps, s.footsteps);
     for (bad, needle) in [
@@ -101,7 +101,7 @@ fn footstep_parameters_come_from_the_map_script() {
         ("#{ stride: 1.0 }", "unknown parameter `stride`"),
     ] {
         let src = format!("{base}m.footsteps({bad});\nm\n");
-        let e = map_api::load_scenario(&src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+        let e = load_scenario(&src, "t.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
         assert_eq!(e.line, 4, "{e}");
         assert!(e.message.contains(needle), "{needle}: {e}");
     }
@@ -131,7 +131,7 @@ mod character {
 
     use strider::experiment::run_episode;
     use strider::scenario::Scenario;
-    use strider::script::{Limits, ScriptLog, map_api};
+    use strider::script::{Limits, ScriptLog, load_scenario};
     use strider::sim::{AnimationHandle, LayeredController, Simulation, StepParameters};
 
     fn params() -> StepParameters {
@@ -146,7 +146,7 @@ mod character {
     }
 
     fn map(src: &str, name: &str) -> Scenario {
-        map_api::load_scenario(src, name, Limits::default(), &ScriptLog::new()).unwrap()
+        load_scenario(src, name, Limits::default(), &ScriptLog::new()).unwrap()
     }
 
     const SCENES: [(&str, &str, f64); 4] = [

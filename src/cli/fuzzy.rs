@@ -15,7 +15,7 @@ use crate::diagnostic::SourceError;
 use crate::fuzzy::reference::Reference;
 use crate::fuzzy::{Engine, Inference, Network, fll};
 use crate::render::plot::{self, SurfaceFigure, TermCurve, VariableFigure};
-use crate::script::{Limits, ScriptLog, fuzzy_api};
+use crate::script::{self, Limits, ScriptLog};
 
 /// The single-engine navigation rules (Fig 1's variables), built into the binary.
 pub const SIMPLE_NAV_SCRIPT: &str = include_str!("../../scripts/simple_nav.rhai");
@@ -148,7 +148,7 @@ pub fn load_engines(path: &Path, only: Option<&str>) -> Result<Vec<Engine>, Fail
 
 fn load_script(text: &str, file: &str) -> Result<Vec<Engine>, SourceError> {
     let log = ScriptLog::new();
-    let result = fuzzy_api::load_engines(text, file, Limits::default(), &log);
+    let result = script::load_engines(text, file, Limits::default(), &log);
     for line in log.lines() {
         eprintln!("{file}: {line}");
     }

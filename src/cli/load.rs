@@ -15,7 +15,7 @@ use crate::fuzzy::Engine;
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::{movingai, text};
 use crate::scenario::Scenario;
-use crate::script::{Limits, ScriptLog, fuzzy_api, map_api};
+use crate::script::{self, Limits, ScriptLog};
 use crate::sim::{ControllerParams, LayeredController};
 
 /// Which world a command runs.
@@ -111,7 +111,7 @@ pub fn load_map(spec: &MapSpec) -> Loaded<MapSource> {
     let log = ScriptLog::new();
     let (path, scen) = match spec {
         MapSpec::BuiltIn => {
-            let s = map_api::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log);
+            let s = script::load_scenario(DEFAULT_MAP, DEFAULT_MAP_FILE, Limits::default(), &log);
             return Loaded::of(s.map(|s| MapSource::Scenario(Arc::new(s))), DEFAULT_MAP_FILE, &log);
         }
         MapSpec::Random(k) => return Loaded { result: Ok(MapSource::Random(*k)), log: Vec::new() },
@@ -119,7 +119,7 @@ pub fn load_map(spec: &MapSpec) -> Loaded<MapSource> {
     };
     let file = path.display().to_string();
     let scenario = match path.extension().and_then(|e| e.to_str()) {
-        Some("rhai") => read(path).and_then(|src| map_api::load_scenario(&src, &file, Limits::default(), &log)),
+        Some("rhai") => read(path).and_then(|src| script::load_scenario(&src, &file, Limits::default(), &log)),
         Some("txt") | Some("world") => read(path).and_then(|src| text::parse(&src, &file)),
         Some("map") => load_movingai(path, scen.as_deref()),
         _ => Err(SourceError::new(&file, 0, 0, "expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND")),
@@ -162,7 +162,7 @@ pub fn load_engines(path: Option<&Path>) -> Loaded<Vec<Engine>> {
         },
         None => (DEFAULT_RULES.to_string(), DEFAULT_RULES_FILE.to_string()),
     };
-    let result = fuzzy_api::load_engines(&source, &file, Limits::default(), &log);
+    let result = script::load_engines(&source, &file, Limits::default(), &log);
     Loaded::of(result, &file, &log)
 }
 

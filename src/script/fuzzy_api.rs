@@ -20,7 +20,6 @@ use std::rc::Rc;
 
 use rhai::{Array, Dynamic, EvalAltResult, ImmutableString, NativeCallContext};
 
-use crate::diagnostic::SourceError;
 use crate::fuzzy::fll;
 use crate::fuzzy::{
     Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, SNorm, TNorm, Term,
@@ -356,55 +355,11 @@ pub fn handle_of(engine: Engine) -> EngineHandle {
     EngineHandle(Rc::new(RefCell::new(engine)))
 }
 
-/// The engines a script's final value holds: one engine, or an array of engines.
-pub fn engines_from(value: rhai::Dynamic) -> Result<Vec<Engine>, String> {
-    if let Some(e) = value.clone().try_cast::<EngineHandle>() {
-        return Ok(vec![e.0.borrow().clone()]);
-    }
-    if let Some(items) = value.clone().try_cast::<Array>() {
-        let mut out = Vec::new();
-        for (i, item) in items.into_iter().enumerate() {
-            match item.clone().try_cast::<EngineHandle>() {
-                Some(e) => out.push(e.0.borrow().clone()),
-                None => {
-                    return Err(format!(
-                        "item {} of the returned array is {}, not a fuzzy engine",
-                        i + 1,
-                        super::value_kind(&item)
-                    ));
-                }
-            }
-        }
-        if !out.is_empty() {
-            return Ok(out);
-        }
-    }
-    let hint = if value.is::<super::map_api::MapHandle>() { " (is this a map given as rules?)" } else { "" };
-    Err(format!(
-        "the script must end with a fuzzy engine or an array of them, found {}{hint}",
-        super::value_kind(&value)
-    ))
-}
-
-/// Runs a script that builds fuzzy engines and returns them, validated.
-pub fn load_engines(
-    source: &str,
-    file: &str,
-    limits: super::Limits,
-    log: &super::ScriptLog,
-) -> Result<Vec<Engine>, SourceError> {
-    let value = super::run(source, file, limits, log)?;
-    let engines = engines_from(value).map_err(|m| SourceError::new(file, 0, 0, m))?;
-    for e in &engines {
-        e.validate().map_err(|err| SourceError::new(file, 0, 0, format!("engine '{}': {}", e.name, err.message)))?;
-    }
-    Ok(engines)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::script::{Limits, ScriptLog};
+    use crate::diagnostic::SourceError;
+    use crate::script::{Limits, ScriptLog, load_engines};
 
     #[test]
     fn infinite_ranges_and_terms_are_located_errors() {

@@ -274,23 +274,16 @@ pub fn register(engine: &mut rhai::Engine) {
     });
 }
 
-/// Runs a map script and returns its validated scenario.
-pub fn load_scenario(
-    source: &str,
-    file: &str,
-    limits: super::Limits,
-    log: &super::ScriptLog,
-) -> Result<Scenario, SourceError> {
-    let value = super::run(source, file, limits, log)?;
-    let handle = value.clone().try_cast::<MapHandle>().ok_or_else(|| {
-        SourceError::new(file, 0, 0, format!("the script must end with a world, found {}", super::value_kind(&value)))
-    })?;
-    let mut st = handle.0.borrow_mut();
-    if st.pending_start.is_some() {
-        return Err(SourceError::new(file, 0, 0, "the last start has no goal"));
+impl MapHandle {
+    /// The validated scenario of a finished map script; errors name `file`.
+    pub fn scenario(&self, file: &str) -> Result<Scenario, SourceError> {
+        let mut st = self.0.borrow_mut();
+        if st.pending_start.is_some() {
+            return Err(SourceError::new(file, 0, 0, "the last start has no goal"));
+        }
+        let mut scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
+        scenario.terrain = Terrain::from_features(std::mem::take(&mut st.features));
+        scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
+        Ok(scenario)
     }
-    let mut scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
-    scenario.terrain = Terrain::from_features(std::mem::take(&mut st.features));
-    scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
-    Ok(scenario)
 }
