@@ -6,9 +6,7 @@
 pub mod anim;
 pub mod db_strip;
 pub mod experiment;
-pub mod files;
 pub mod fuzzy;
-pub mod load;
 pub mod render;
 pub mod reproduce;
 pub mod run;
@@ -20,6 +18,8 @@ use std::io::{self, IsTerminal, Write};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+
+use crate::load::Failure;
 
 /// strider: fuzzy navigation and character locomotion planning, in a terminal.
 #[derive(Debug, Parser)]
@@ -69,36 +69,6 @@ pub enum Command {
     Steps(steps::StepsArgs),
 }
 
-/// A failure of a command, with the exit code it maps to.
-#[derive(Debug)]
-pub enum Failure {
-    /// Usage, file or script error (exit 2).
-    Input(anyhow::Error),
-    /// The command ran but its task or check failed (exit 1).
-    Task(anyhow::Error),
-}
-
-impl From<anyhow::Error> for Failure {
-    fn from(e: anyhow::Error) -> Self {
-        Failure::Input(e)
-    }
-}
-
-impl From<io::Error> for Failure {
-    fn from(e: io::Error) -> Self {
-        Failure::Input(e.into())
-    }
-}
-
-impl From<crate::diagnostic::SourceError> for Failure {
-    fn from(e: crate::diagnostic::SourceError) -> Self {
-        Failure::Input(e.into())
-    }
-}
-
-/// Result of a command.
-pub type Outcome = Result<(), Failure>;
-
 /// Runs the command line and returns the process exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -134,16 +104,3 @@ pub fn main() -> ExitCode {
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
     e.chain().any(|c| c.downcast_ref::<io::Error>().is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe))
 }
-
-/// Parses `WxH` (for example `800x600`).
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WIDTHxHEIGHT, found '{s}'"))?;
-    let w: u32 = w.parse().map_err(|_| format!("bad width '{w}'"))?;
-    let h: u32 = h.parse().map_err(|_| format!("bad height '{h}'"))?;
-    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
-        return Err(format!("size {w}x{h} is outside 16..8192"));
-    }
-    Ok((w, h))
-}
-
-pub use files::write_atomic;

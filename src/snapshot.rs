@@ -49,9 +49,9 @@ use std::sync::Arc;
 use rayon::prelude::*;
 use tiny_skia::Pixmap;
 
-use crate::cli::Failure;
-use crate::cli::anim::BodyArgs;
+use crate::files::write_atomic;
 use crate::geom::Aabb;
+use crate::load::{BodyArgs, Failure};
 use crate::render::png::render_png;
 use crate::render::scene::Scene;
 use crate::render::sim_view::scene_of;
@@ -412,12 +412,12 @@ pub fn update_requested() -> bool {
 /// Loads the episode a [`Spec`] describes (map, rules, body; the episode numbered as in
 /// `strider run`). Errors name the file at fault.
 pub fn load(spec: &Spec) -> Result<Episode, Error> {
-    use crate::cli::load::{MapSpec, job, load_map, load_rules};
+    use crate::load::{MapSpec, job, load_animation, load_map, load_rules};
     let map = MapSpec::parse(Some(&spec.map)).map_err(|e| Error::Input(e.into()))?.with_scen(spec.scen.clone());
     let source = load_map(&map).logged().map_err(|e| Error::Input(e.into()))?;
     let controller = load_rules(spec.rules.as_deref()).logged().map_err(|e| Error::Input(e.into()))?;
     let job = job(&source, spec.episode, spec.seed);
-    let animation = crate::cli::anim::load_animation(&spec.body)?;
+    let animation = load_animation(&spec.body)?;
     Ok(Episode::new(job.scenario, job.task, job.seed, controller, animation))
 }
 
@@ -518,7 +518,7 @@ fn remove(path: &Path) -> Result<(), Error> {
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    crate::cli::write_atomic(path, bytes).map_err(|e| file_error(path, format!("cannot write: {e}")))
+    write_atomic(path, bytes).map_err(|e| file_error(path, format!("cannot write: {e}")))
 }
 
 /// Encodes straight RGBA pixels as PNG. Every row is stored with the "up" filter: about as

@@ -12,8 +12,9 @@ use strider::anim::policy::{Errors, Policy, Strategy, evaluate};
 use strider::anim::warp::WarpLimits;
 use strider::anim::{Database, Ground};
 use strider::builtin::{self, DEFAULT_POLICY};
-use strider::cli::anim::{load_database, parse_intervals, save_database};
+use strider::cli::anim::parse_intervals;
 use strider::experiment::run_episode;
+use strider::load::{load_database, save_database};
 use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
 use strider::sim::{
     AnimatedBody, Animation, AnimationHandle, Body, Command, ControllerParams, LayeredController, OpenSpace,

@@ -1,30 +1,29 @@
 //! `strider db build|info|export` and `strider train` (seed 000 §3.2): animation databases from
 //! BVH files, their description, the built-in generated clips, and SARSA training of the
-//! interval policy. Also the shared options that make `run`, `render` and `tui` drive an
-//! animated character.
+//! interval policy.
 //!
 //! A database directory holds `database.json` (format, version, parameters, the clip files and
-//! the interval list) and the clips as BVH under `clips/`. Rebuilding from it reproduces the
-//! same intervals, so policies trained on it stay valid.
+//! the interval list) and the clips as BVH under `clips/` ([`crate::load::load_database`],
+//! [`crate::load::save_database`]). Rebuilding from it reproduces the same intervals, so
+//! policies trained on it stay valid.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use anyhow::{Context, anyhow};
-use clap::{Args, Subcommand, ValueEnum};
-use serde::{Deserialize, Serialize};
+use clap::{Args, Subcommand};
 
-use super::files::{self, outln, write_atomic};
-use super::{Failure, Outcome};
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::db::DbError;
-use crate::anim::player::{PlayerParams, TransitionKind};
 use crate::anim::policy::{LearnParams, Policy, StateGrid, Strategy};
 use crate::anim::rig;
 use crate::anim::{Clip, Database, DbParams, IntervalSpec, Skeleton};
 use crate::diagnostic::SourceError;
+use crate::files::{self, outln, write_atomic};
 use crate::lex::{Tok, tokenize};
-use crate::sim::{Animation, AnimationHandle};
+use crate::load::{
+    BodyArgs, BodyKind, Failure, Outcome, TransitionArg, builtin_database, load_animation, load_database, parse_bvh,
+    same_skeleton, save_database, save_database_with_feet,
+};
 
 /// `strider db` subcommands.
 #[derive(Debug, Subcommand)]
@@ -102,92 +101,6 @@ pub struct TrainArgs {
     pub resume: bool,
 }
 
-/// Body of the agents of `run`, `render` and `tui`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
-pub enum BodyKind {
-    /// The animated character, driven by the database and its trained policy.
-    #[default]
-    Animated,
-    /// The kinematic disc.
-    Disc,
-}
-
-/// Transition kinds on the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
-pub enum TransitionArg {
-    /// Cross-fade.
-    #[default]
-    Crossfade,
-    /// Inertialization.
-    Inertialize,
-}
-
-/// Options choosing the agents' body.
-#[derive(Debug, Clone, Args, Default)]
-pub struct BodyArgs {
-    /// Agent body.
-    #[arg(long, value_enum, default_value_t = BodyKind::Animated)]
-    pub body: BodyKind,
-    /// Animation database directory (default: built-in).
-    #[arg(long)]
-    pub db: Option<PathBuf>,
-    /// Trained policy file (default: the shipped one for the built-in database), or a baseline
-    /// that picks the next interval without it: `greedy` (best one-step reward), `random`,
-    /// `successor` (the clip's own next interval).
-    #[arg(long)]
-    pub policy: Option<PathBuf>,
-    /// How intervals hand over.
-    #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
-    pub transition: TransitionArg,
-}
-
-/// The baseline a `--policy` argument names, if it names one.
-pub fn baseline(policy: Option<&Path>) -> Option<Strategy> {
-    let name = policy?.to_str()?;
-    Strategy::ALL.into_iter().find(|s| *s != Strategy::Learnt && s.name() == name)
-}
-
-/// The manifest of a database directory.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Manifest {
-    /// Always `strider-animation-db`.
-    pub format: String,
-    /// Format version (1).
-    pub version: u32,
-    /// Neighbours per interval.
-    pub k: usize,
-    /// Normalized time samples per interval minus one.
-    pub samples: usize,
-    /// Clip files, relative to the directory, in database order.
-    pub clips: Vec<String>,
-    /// Intervals: clip name, first frame, last frame.
-    pub intervals: Vec<(String, usize, usize)>,
-    /// The foot joints (left, right) when given by hand; empty when found from the skeleton.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub feet: Vec<String>,
-}
-
-const MANIFEST: &str = "database.json";
-const FORMAT: &str = "strider-animation-db";
-
-/// The built-in database ([`crate::builtin::database`]), its errors as the command line's.
-pub fn builtin_database() -> Result<Database, Failure> {
-    crate::builtin::database().map_err(|e| anyhow!("built-in animation database: {e}").into())
-}
-
-fn read_bvh(path: &Path, scale: f64) -> Result<(Skeleton, Clip), Failure> {
-    parse_bvh(path, &files::read_text(path)?, scale)
-}
-
-fn parse_bvh(path: &Path, text: &str, scale: f64) -> Result<(Skeleton, Clip), Failure> {
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "clip".into());
-    let b = bvh::parse(text, &path.display().to_string(), &name, &BvhOptions { scale })?;
-    for w in &b.warnings {
-        eprintln!("{}: warning: {w}", path.display());
-    }
-    Ok((b.skeleton, b.clip))
-}
-
 /// The import scale of `db build`: `--scale` when given, else the unit the first file's leg
 /// length points to, said on stderr with the feet it was measured to.
 fn build_scale(a: &BuildArgs, first: &Path, text: &str) -> Result<f64, Failure> {
@@ -243,77 +156,6 @@ fn build_scale(a: &BuildArgs, first: &Path, text: &str) -> Result<f64, Failure> 
         );
     }
     Ok(g.unit.metres)
-}
-
-fn same_skeleton(a: &Skeleton, b: &Skeleton) -> bool {
-    a.len() == b.len()
-        && a.joints()
-            .iter()
-            .zip(b.joints())
-            .all(|(x, y)| x.name == y.name && x.parent == y.parent && (x.offset - y.offset).length() < 1e-6)
-}
-
-/// Loads a database directory.
-pub fn load_database(dir: &Path) -> Result<Database, Failure> {
-    let path = dir.join(MANIFEST);
-    let text = files::read_text(&path)?;
-    let m: Manifest = serde_json::from_str(&text)
-        .map_err(|e| SourceError::new(&path.display().to_string(), e.line(), e.column(), e.to_string()))?;
-    if m.format != FORMAT || m.version != 1 {
-        return Err(anyhow!("{}: not a version 1 {FORMAT} manifest", path.display()).into());
-    }
-    let mut skeleton: Option<Skeleton> = None;
-    let mut clips = Vec::new();
-    for file in &m.clips {
-        let (s, c) = read_bvh(&dir.join(file), 1.0)?;
-        match &skeleton {
-            Some(k) if !same_skeleton(k, &s) => {
-                return Err(anyhow!("{file}: its skeleton differs from the first clip's").into());
-            }
-            Some(_) => {}
-            None => skeleton = Some(s),
-        }
-        clips.push(c);
-    }
-    let skeleton = skeleton.ok_or_else(|| anyhow!("{}: no clips", path.display()))?;
-    let specs: Vec<IntervalSpec> =
-        m.intervals.iter().map(|(c, s, e)| IntervalSpec { clip: c.clone(), start: *s, end: *e }).collect();
-    let mut params = DbParams { k: m.k, samples: m.samples, ..DbParams::default() };
-    params.contacts.feet = m.feet.clone();
-    Database::build(clips, skeleton, params, Some(&specs)).map_err(|e| anyhow!("{}: {e}", path.display()).into())
-}
-
-/// Writes `db` as a database directory.
-pub fn save_database(db: &Database, dir: &Path) -> Result<(), Failure> {
-    save_database_with_feet(db, dir, &[])
-}
-
-/// Writes `db` as a database directory whose manifest names the foot joints `feet` (when they
-/// were given by hand, so reloading finds the same ones).
-pub fn save_database_with_feet(db: &Database, dir: &Path, feet: &[String]) -> Result<(), Failure> {
-    let clips_dir = dir.join("clips");
-    std::fs::create_dir_all(&clips_dir).with_context(|| format!("cannot create {}", clips_dir.display()))?;
-    let mut files = Vec::new();
-    for c in &db.clips {
-        let file = format!("clips/{}.bvh", c.name);
-        let text = bvh::write(&db.skeleton, c, &BvhOptions::default());
-        let path = dir.join(&file);
-        write_atomic(&path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
-        files.push(file);
-    }
-    let m = Manifest {
-        format: FORMAT.into(),
-        version: 1,
-        k: db.params.k,
-        samples: db.params.samples,
-        clips: files,
-        intervals: db.intervals.iter().map(|i| (db.clips[i.clip].name.clone(), i.start, i.end)).collect(),
-        feet: feet.to_vec(),
-    };
-    let json = serde_json::to_string_pretty(&m).map_err(|e| anyhow!("{e}"))?;
-    let path = dir.join(MANIFEST);
-    write_atomic(&path, json.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
 }
 
 /// Reads the hand-written interval list: `CLIP START END` per line, `#` comments.
@@ -635,45 +477,3 @@ pub fn train(a: TrainArgs) -> Outcome {
 
 /// Held-out episodes `strider train` scores the policy and the baselines on.
 const HELD_OUT_EPISODES: u64 = 20_000;
-
-/// The animation the agents of `run`, `render` and `tui` use, or `None` for discs.
-pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> {
-    if b.body == BodyKind::Disc {
-        return Ok(None);
-    }
-    let db = match &b.db {
-        Some(d) => load_database(d)?,
-        None => builtin_database()?,
-    };
-    let strategy = baseline(b.policy.as_deref()).unwrap_or(Strategy::Learnt);
-    let policy = match (&b.policy, &b.db) {
-        // A baseline needs no trained values: an untrained table gives it α, β and γ.
-        (Some(_), _) if strategy != Strategy::Learnt => {
-            Policy::new(&db, StateGrid::default(), LearnParams::default(), 0)
-        }
-        (Some(p), _) => {
-            let bytes = files::read_bytes(p)?;
-            Policy::from_bytes(&bytes, &db).map_err(|e| anyhow!("{}: {e}", p.display()))?
-        }
-        (None, None) => {
-            crate::builtin::policy(&db).map_err(|e| anyhow!("{}: {e}", crate::builtin::DEFAULT_POLICY_FILE))?
-        }
-        (None, Some(d)) => {
-            return Err(anyhow!(
-                "{}: give its policy with --policy FILE (train one with `strider train --db {} --out FILE`)",
-                d.display(),
-                d.display()
-            )
-            .into());
-        }
-    };
-    let transition = match b.transition {
-        TransitionArg::Crossfade => TransitionKind::CrossFade,
-        TransitionArg::Inertialize => TransitionKind::Inertialize,
-    };
-    Ok(Some(AnimationHandle(Arc::new(
-        Animation::new(db, policy)
-            .with_player(PlayerParams { transition, ..PlayerParams::default() })
-            .with_strategy(strategy),
-    ))))
-}

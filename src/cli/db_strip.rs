@@ -7,9 +7,10 @@ use std::path::PathBuf;
 use anyhow::{Context, anyhow};
 use clap::Args;
 
-use super::anim::{builtin_database, load_database};
-use super::{Outcome, parse_size, write_atomic};
 use crate::anim::Ground;
+use crate::files::write_atomic;
+use crate::load::{Outcome, builtin_database, load_database};
+use crate::render::png::parse_size;
 use crate::render::png::{PngPainter, encode};
 use crate::render::poses::{StripPose, draw_strip, strip_pose};
 
@@ -78,7 +79,7 @@ pub fn run(a: StripArgs) -> Outcome {
     draw_strip(&poses, &mut painter);
     let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
     write_atomic(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
-    super::files::outln!(
+    crate::files::outln!(
         "{} poses of '{}' ({} frames) written to {}",
         poses.len(),
         clip.name,

@@ -32,11 +32,9 @@ use anyhow::anyhow;
 use clap::Args;
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
-use super::anim::{BodyArgs, BodyKind, load_animation};
-use super::load::{self, MapSource, MapSpec, job};
-use super::{Failure, Outcome};
 use crate::experiment::{self, EpisodeRecord, Field, Summary};
 use crate::fuzzy::Engine;
+use crate::load::{self, BodyArgs, BodyKind, Failure, MapSource, MapSpec, Outcome, job, load_animation};
 use crate::maps::kind::{self, WorldKind};
 use crate::scenario::Scenario;
 use crate::script::fuzzy_api::{self, EngineHandle};
@@ -351,7 +349,7 @@ pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFail
 /// `strider experiment`.
 pub fn run(args: ExperimentArgs) -> Outcome {
     let file = args.script.display().to_string();
-    let source = super::files::read_text(&args.script)?;
+    let source = crate::files::read_text(&args.script)?;
     let log = ScriptLog::new();
     // Experiments may run many episodes; each native call counts as few operations.
     let mut engine = hardened_engine(Limits::default(), &log);

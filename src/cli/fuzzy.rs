@@ -9,12 +9,13 @@ use std::time::Instant;
 use anyhow::{Context, anyhow, bail};
 use clap::{Subcommand, ValueEnum};
 
-use super::files::{self, write_atomic};
-use super::{Failure, Outcome, parse_size};
 use crate::diagnostic::SourceError;
+use crate::files::{self, write_atomic};
 use crate::fuzzy::reference::Reference;
 use crate::fuzzy::{Engine, Inference, Network, fll};
+use crate::load::{Failure, Outcome};
 use crate::render::plot::{self, SurfaceFigure, TermCurve, VariableFigure};
+use crate::render::png::parse_size;
 use crate::script::{self, Limits, ScriptLog};
 
 /// The single-engine navigation rules (Fig 1's variables), built into the binary.

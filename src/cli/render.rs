@@ -8,8 +8,9 @@ use anyhow::{Context, anyhow};
 use clap::Args;
 
 use super::run::{MapArgs, job, load_controller, load_map_args};
-use super::{Outcome, parse_size, write_atomic};
-use crate::render::png::{PngPainter, encode, render_png};
+use crate::files::write_atomic;
+use crate::load::Outcome;
+use crate::render::png::{PngPainter, encode, parse_size, render_png};
 use crate::render::poses::{StripPose, draw_strip};
 use crate::render::side_view::render_side_view;
 use crate::render::sim_view::{SideRecorder, StripView, scene_of, strip_pose_of, upper_strip_pose};
@@ -35,7 +36,7 @@ pub struct RenderArgs {
     pub episode: usize,
     /// Agent body.
     #[command(flatten)]
-    pub body: super::anim::BodyArgs,
+    pub body: crate::load::BodyArgs,
     /// Also write `poses.png`: a side-view strip of the animated character's skeleton, one pose
     /// every 0.25 s over the first 16 samples.
     #[arg(long)]
@@ -70,18 +71,18 @@ const POSES: usize = 16;
 /// `strider render`.
 pub fn render(args: RenderArgs) -> Outcome {
     // Flag combinations first, before any work.
-    if args.poses && args.body.body == super::anim::BodyKind::Disc {
+    if args.poses && args.body.body == crate::load::BodyKind::Disc {
         return Err(
             anyhow!("--poses draws the animated character's skeleton; it cannot be used with --body disc").into()
         );
     }
-    if args.side && args.body.body == super::anim::BodyKind::Disc {
+    if args.side && args.body.body == crate::load::BodyKind::Disc {
         return Err(anyhow!(
             "--side draws the animated character's legs and upper body; it cannot be used with --body disc"
         )
         .into());
     }
-    if args.front && args.body.body == super::anim::BodyKind::Disc {
+    if args.front && args.body.body == crate::load::BodyKind::Disc {
         return Err(
             anyhow!("--front draws the animated character's upper body; it cannot be used with --body disc").into()
         );
@@ -110,7 +111,7 @@ pub fn render(args: RenderArgs) -> Outcome {
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
     let mut params =
-        StepParameters { animation: super::anim::load_animation(&args.body)?, ..StepParameters::default() };
+        StepParameters { animation: crate::load::load_animation(&args.body)?, ..StepParameters::default() };
     params.limits.radius = job.scenario.agent_radius;
     let mut sim = Simulation::new(world, params);
     sim.add_agent(job.scenario.tasks[job.task], &controller);

@@ -6,8 +6,8 @@ use clap::{Args, Subcommand, ValueEnum};
 use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use super::experiment::{EpisodeBudget, ScenarioHandle, controller, failure_text};
-use super::files::outln;
-use super::{Failure, Outcome};
+use crate::files::outln;
+use crate::load::{Failure, Outcome};
 use crate::maps::generate::Density;
 use crate::reproduce::{self, Environment, Report, Table1Options};
 
@@ -69,7 +69,7 @@ impl Report for Stderr {
 /// Runs a `reproduce` subcommand.
 pub fn run(command: ReproduceCommand) -> Outcome {
     let ReproduceCommand::Table1(a) = command;
-    let db = super::anim::builtin_database()?;
+    let db = crate::load::builtin_database()?;
     let controller = super::run::load_controller(None)?;
     let environments = reproduce::fig2_environments().map_err(|e| Failure::Input(anyhow::anyhow!(e)))?;
     let options = Table1Options {
@@ -175,7 +175,7 @@ pub fn register(engine: &mut rhai::Engine, budget: &EpisodeBudget) {
         };
         budget.spend(((options.held_out + options.unseen) * environments.len()) as u64)?;
         let c = controller(&rules)?;
-        let db = super::anim::builtin_database().map_err(failure_text)?;
+        let db = crate::load::builtin_database().map_err(failure_text)?;
         let table = reproduce::run(&db, &c, &environments, options, &Quiet);
         let value = serde_json::to_value(&table).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
         json_to_dynamic(&value).try_cast::<Map>().ok_or_else(|| "internal: the table is not a map".into())

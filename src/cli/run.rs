@@ -7,13 +7,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, anyhow};
 use clap::{Args, ValueEnum};
 
-use super::files;
-pub use super::load::{MapSource, MapSpec, episode_count, job};
-use super::load::{load_map, load_rules};
-use super::{Failure, Outcome};
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::{Clip, Skeleton};
 use crate::experiment::{self, EpisodeRecord, Field};
+use crate::files;
+use crate::load::{Failure, Outcome, load_map, load_rules};
+pub use crate::load::{MapSource, MapSpec, episode_count, job};
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::text;
 use crate::sim::{LayeredController, StepParameters};
@@ -52,7 +51,7 @@ pub struct RunArgs {
     pub threads: Option<usize>,
     /// Agent body.
     #[command(flatten)]
-    pub body: super::anim::BodyArgs,
+    pub body: crate::load::BodyArgs,
     /// Also write each episode's full motion of the animated character as
     /// `DIR/episode_<N>.bvh`: 60 frames/s, metres, Y up (BVH (X, Y, Z) = world (y, z, x), as
     /// `strider db export`), root OFFSET 0 0 0 with the root position channels holding the
@@ -105,7 +104,7 @@ pub fn run(args: RunArgs) -> Outcome {
     {
         return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
     }
-    if args.bvh_out.is_some() && args.body.body == super::anim::BodyKind::Disc {
+    if args.bvh_out.is_some() && args.body.body == crate::load::BodyKind::Disc {
         return Err(
             anyhow!("--bvh-out writes the animated character's motion; it cannot be used with --body disc").into()
         );
@@ -115,7 +114,7 @@ pub fn run(args: RunArgs) -> Outcome {
     let count = episode_count(&source, args.episodes);
     check_episodes(count)?;
     let params = StepParameters {
-        animation: super::anim::load_animation(&args.body)?,
+        animation: crate::load::load_animation(&args.body)?,
         stopwatch: Some(wall_stopwatch()),
         record_motion: args.bvh_out.is_some(),
         ..StepParameters::default()
@@ -274,11 +273,11 @@ pub fn gen_world(args: GenArgs) -> Outcome {
 /// `strider` with no command: runs the default navigation rules on the built-in
 /// semi-cluttered map and prints the episode's measurements.
 pub fn default_scenario() -> Outcome {
-    let scenario = super::load::load_scenario(&MapSpec::BuiltIn, 0).logged()?;
+    let scenario = crate::load::load_scenario(&MapSpec::BuiltIn, 0).logged()?;
     let controller = load_controller(None)?;
     let world = scenario.world();
     let mut params = StepParameters {
-        animation: super::anim::load_animation(&super::anim::BodyArgs::default())?,
+        animation: crate::load::load_animation(&crate::load::BodyArgs::default())?,
         ..StepParameters::default()
     };
     params.limits.radius = scenario.agent_radius;

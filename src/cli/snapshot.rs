@@ -10,7 +10,8 @@ use anyhow::anyhow;
 use clap::Args;
 
 use super::run::MapArgs;
-use super::{Failure, Outcome, parse_size};
+use crate::load::{Failure, Outcome};
+use crate::render::png::parse_size;
 use crate::snapshot::{self, Error, Settings, Spec, Tolerance};
 
 /// `strider snapshot` options.
@@ -34,7 +35,7 @@ pub struct SnapshotArgs {
     pub side: bool,
     /// Agent body.
     #[command(flatten)]
-    pub body: super::anim::BodyArgs,
+    pub body: crate::load::BodyArgs,
     /// Directory of the golden frames and trajectory.
     #[arg(long)]
     pub golden: PathBuf,
@@ -84,7 +85,7 @@ pub fn run(args: SnapshotArgs) -> Outcome {
         }
         Err(e) => return Err(Failure::Input(e.into())),
     };
-    super::files::outln!("{report}")?;
+    crate::files::outln!("{report}")?;
     if report.passed() {
         Ok(())
     } else {

@@ -14,10 +14,11 @@ use anyhow::{Context, anyhow};
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 
-use super::{Failure, Outcome, write_atomic};
 use crate::diagnostic::SourceError;
+use crate::files::write_atomic;
 use crate::footstep::{Course, Decision, FootstepParams, FootstepPlanner, PlannedStep, PlannerMode, WalkOutcome};
 use crate::ground::{self, MAX_PROFILE_BYTES};
+use crate::load::{Failure, Outcome};
 use crate::render::png::encode;
 use crate::render::side_view::{SideView, render_side_view};
 

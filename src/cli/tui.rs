@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::Outcome;
+use crate::load::Outcome;
 use crate::tui::{self, Config, MapSpec};
 
 /// `strider tui` options.
@@ -21,18 +21,18 @@ pub struct TuiArgs {
     pub seed: u64,
     /// Agent body.
     #[command(flatten)]
-    pub body: super::anim::BodyArgs,
+    pub body: crate::load::BodyArgs,
 }
 
 /// `strider tui`.
 pub fn run(args: TuiArgs) -> Outcome {
     let map = MapSpec::parse(args.map.as_deref())?;
-    let animation = super::anim::load_animation(&args.body)?;
+    let animation = crate::load::load_animation(&args.body)?;
     tui::run(Config { map, rules: args.rules, seed: args.seed, animation })?;
     Ok(())
 }
 
 /// `strider` with no command on a terminal: the live view of the built-in default scenario.
 pub fn default_scenario() -> Outcome {
-    run(TuiArgs { map: None, rules: None, seed: 1, body: super::anim::BodyArgs::default() })
+    run(TuiArgs { map: None, rules: None, seed: 1, body: crate::load::BodyArgs::default() })
 }

@@ -15,6 +15,18 @@ use super::scene::{Painter, Rgba, Scene, draw_scene, palette};
 /// Largest image side produced, pixels; larger requests are reduced to this.
 pub const MAX_SIDE_PX: u32 = 8192;
 
+/// Reads a picture size as a command line gives it, `WIDTHxHEIGHT` (for example `800x600`),
+/// each side in 16..=[`MAX_SIDE_PX`] pixels.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WIDTHxHEIGHT, found '{s}'"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width '{w}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height '{h}'"))?;
+    if !(16..=MAX_SIDE_PX).contains(&w) || !(16..=MAX_SIDE_PX).contains(&h) {
+        return Err(format!("size {w}x{h} is outside 16..{MAX_SIDE_PX}"));
+    }
+    Ok((w, h))
+}
+
 /// A [`Painter`] drawing into an RGBA pixmap with antialiased strokes and fills and the
 /// built-in 5×7 bitmap font for text.
 #[derive(Debug, Clone)]

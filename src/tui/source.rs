@@ -1,5 +1,5 @@
 //! Where the live view's world and rules come from, and hot reload (DESIGN.md §6): maps and
-//! rule scripts are loaded by the command line's loading layer ([`crate::cli::load`]) with
+//! rule scripts are loaded by the front-ends' loading layer ([`crate::load`]) with
 //! their script output kept for the log panel (never printed: stdout and stderr belong to the
 //! terminal UI), and files are watched by polling their modification time.
 //!
@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
-pub use crate::cli::load::{Loaded, MapSpec, load_rules, load_scenario};
+pub use crate::load::{Loaded, MapSpec, load_rules, load_scenario};
 
 /// Watches one file by its modification time.
 #[derive(Debug, Clone)]

@@ -1,5 +1,5 @@
-//! The command line's one way in and out of files and stdout (DESIGN.md §7): every input file
-//! is read through [`read_text`] or [`read_bytes`], which refuse files over
+//! strider's one way in and out of files and stdout (DESIGN.md §7), for the command line, the
+//! live view, the loading layer ([`crate::load`]) and snapshots: every input file is read through [`read_text`] or [`read_bytes`], which refuse files over
 //! [`MAX_INPUT_BYTES`] at once (pipes and devices such as `/dev/zero` included) and name the
 //! file in every error; outputs are written atomically ([`write_atomic`], [`replace_dir`]);
 //! data goes to stdout through [`write_stdout`] (or the `outln!` macro), which returns the
@@ -71,7 +71,7 @@ pub fn write_stdout(args: fmt::Arguments) -> io::Result<()> {
 /// `println!` for data on stdout, returning an [`io::Result`] (see [`write_stdout`]).
 macro_rules! outln {
     ($($arg:tt)*) => {
-        $crate::cli::files::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+        $crate::files::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 pub(crate) use outln;
