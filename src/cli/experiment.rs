@@ -16,7 +16,8 @@
 //! map (`every`, `width`, `height`, `tolerance`, `update`, `body`, `episode`, `side`); it runs
 //! [`crate::snapshot::check_episode`] like `strider snapshot` and returns `passed`, `updated`,
 //! `frames`, `changed`, `divergence_s` (`()` when the trajectories agree) and `report`. A
-//! script whose snapshots did not all match exits with code 1.
+//! script whose snapshots did not all match exits with code 1. `reproduce_table1` runs seed
+//! 000's Table 1 as `strider reproduce table1` does ([`register_table1`]).
 //! The functions here do file IO and run simulations, so they live with the front-ends and
 //! are registered on top of the one hardened script engine. `print` and `debug` go to the log,
 //! stderr, as the script runs (so the log is kept when the script fails), never to stdout;
@@ -34,8 +35,12 @@ use rhai::{Array, Dynamic, EvalAltResult, Map};
 
 use crate::experiment::{self, EpisodeRecord, Field, Summary};
 use crate::fuzzy::Engine;
-use crate::load::{self, BodyArgs, BodyKind, Failure, MapSource, MapSpec, Outcome, job, load_animation};
+use crate::load::{
+    self, BodyArgs, BodyKind, Failure, MapSource, MapSpec, Outcome, builtin_database, job, load_animation,
+};
+use crate::maps::generate::Density;
 use crate::maps::kind::{self, WorldKind};
+use crate::reproduce::{self, Environment, Report, Table1Options};
 use crate::scenario::Scenario;
 use crate::script::fuzzy_api::{self, EngineHandle};
 use crate::script::{Limits, ScriptLog, hardened_engine, script_error};
@@ -67,7 +72,7 @@ fn engines(rules: &Array) -> Res<Vec<Engine>> {
         .collect()
 }
 
-pub(crate) fn controller(rules: &Array) -> Res<LayeredController> {
+fn controller(rules: &Array) -> Res<LayeredController> {
     let list = engines(rules)?;
     for e in &list {
         e.validate().map_err(|err| -> Box<EvalAltResult> { format!("engine '{}': {}", e.name, err.message).into() })?;
@@ -306,7 +311,7 @@ fn take_snapshot(
     Ok(m)
 }
 
-pub(crate) fn failure_text(f: Failure) -> Box<EvalAltResult> {
+fn failure_text(f: Failure) -> Box<EvalAltResult> {
     match f {
         Failure::Input(e) | Failure::Task(e) => format!("{e:#}").into(),
     }
@@ -346,6 +351,100 @@ pub fn register_snapshot(engine: &mut rhai::Engine, base: &Path) -> SnapshotFail
     failures
 }
 
+/// Progress of a script's experiment: none (the script prints what it wants).
+struct Quiet;
+
+impl Report for Quiet {
+    fn phase(&self, _: &str, _: &str) {}
+    fn round(&self, _: &str, _: u64, _: f64) {}
+}
+
+fn json_to_dynamic(v: &serde_json::Value) -> Dynamic {
+    match v {
+        serde_json::Value::Null => Dynamic::UNIT,
+        serde_json::Value::Bool(b) => Dynamic::from_bool(*b),
+        serde_json::Value::Number(n) => match n.as_i64() {
+            Some(i) => Dynamic::from_int(i),
+            None => Dynamic::from_float(n.as_f64().unwrap_or(f64::NAN)),
+        },
+        serde_json::Value::String(s) => Dynamic::from(s.clone()),
+        serde_json::Value::Array(a) => Dynamic::from_array(a.iter().map(json_to_dynamic).collect()),
+        serde_json::Value::Object(o) => {
+            Dynamic::from_map(o.iter().map(|(k, v)| (k.as_str().into(), json_to_dynamic(v))).collect())
+        }
+    }
+}
+
+fn field<T: Clone + 'static>(m: &Map, key: &str, what: &str) -> Res<T> {
+    m.get(key)
+        .and_then(|v| v.clone().try_cast::<T>())
+        .ok_or_else(|| format!("environment: `{key}` must be {what}").into())
+}
+
+fn count(options: &Map, key: &str, default: u64, max: u64) -> Res<u64> {
+    match options.get(key) {
+        None => Ok(default),
+        Some(v) => v
+            .as_int()
+            .ok()
+            .and_then(|i| u64::try_from(i).ok())
+            .filter(|i| (1..=max).contains(i))
+            .ok_or_else(|| format!("option `{key}` must be an integer in 1..={max}").into()),
+    }
+}
+
+/// Registers `reproduce_table1(environments, options, rules)` on an experiment engine:
+/// `environments` is an array of `#{name, map, density, obstacles}` (`map` from `load_map`,
+/// `density` one of "sparse", "semi", "cluttered" for the unseen worlds, `obstacles` the
+/// pure-RL state's `k`); `options` may set `seed`, `held_out`, `unseen`, `max_episodes`,
+/// `fuzzy_episodes`, `round`; `rules` are the fuzzy + RL planner's rules. Returns the table as
+/// a map shaped like `strider reproduce table1 --format json`. The simulated episodes of the
+/// fuzzy + RL planner count against the script's episode budget.
+pub fn register_table1(engine: &mut rhai::Engine, budget: &EpisodeBudget) {
+    let budget = budget.clone();
+    engine.register_fn("reproduce_table1", move |envs: Array, options: Map, rules: Array| -> Res<Map> {
+        let mut environments = Vec::new();
+        for e in &envs {
+            let m =
+                e.clone().try_cast::<Map>().ok_or("each environment must be a map #{name, map, density, obstacles}")?;
+            let name: rhai::ImmutableString = field(&m, "name", "a string")?;
+            let map: ScenarioHandle = field(&m, "map", "a map from load_map")?;
+            let density: rhai::ImmutableString = field(&m, "density", "\"sparse\", \"semi\" or \"cluttered\"")?;
+            let density = match density.as_str() {
+                "sparse" => Density::Sparse,
+                "semi" => Density::Semi,
+                "cluttered" => Density::Cluttered,
+                other => return Err(format!("environment `{name}`: unknown density `{other}`").into()),
+            };
+            let obstacles: i64 = field(&m, "obstacles", "an integer")?;
+            let obstacles =
+                usize::try_from(obstacles).ok().filter(|k| *k <= 8).ok_or_else(|| -> Box<EvalAltResult> {
+                    format!("environment `{name}`: obstacles must be 0..=8").into()
+                })?;
+            environments.push(Environment { name: name.to_string(), scenario: Arc::clone(&map.0), density, obstacles });
+        }
+        let defaults = Table1Options::default();
+        let options = Table1Options {
+            seed: match options.get("seed") {
+                None => defaults.seed,
+                Some(v) => v.as_int().ok().and_then(|i| u64::try_from(i).ok()).ok_or("option `seed` must be ≥ 0")?,
+            },
+            held_out: count(&options, "held_out", defaults.held_out as u64, 10_000)? as usize,
+            unseen: count(&options, "unseen", defaults.unseen as u64, 10_000)? as usize,
+            max_episodes: count(&options, "max_episodes", defaults.max_episodes, 10_000_000)?,
+            fuzzy_episodes: count(&options, "fuzzy_episodes", defaults.fuzzy_episodes, 10_000_000)?,
+            round: count(&options, "round", defaults.round, 10_000_000)?,
+            ..defaults
+        };
+        budget.spend(((options.held_out + options.unseen) * environments.len()) as u64)?;
+        let c = controller(&rules)?;
+        let db = builtin_database().map_err(failure_text)?;
+        let table = reproduce::run(&db, &c, &environments, options, &Quiet);
+        let value = serde_json::to_value(&table).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        json_to_dynamic(&value).try_cast::<Map>().ok_or_else(|| "internal: the table is not a map".into())
+    });
+}
+
 /// `strider experiment`.
 pub fn run(args: ExperimentArgs) -> Outcome {
     let file = args.script.display().to_string();
@@ -364,7 +463,7 @@ pub fn run(args: ExperimentArgs) -> Outcome {
     });
     let budget = EpisodeBudget::default();
     register(&mut engine, Path::new("."), &budget);
-    super::reproduce::register(&mut engine, &budget);
+    register_table1(&mut engine, &budget);
     let failures = register_snapshot(&mut engine, Path::new("."));
     let ast = engine.compile(&source).map_err(|e| {
         let pos = e.position();
