@@ -9,8 +9,7 @@ use glam::DQuat;
 use strider::anim::policy::{LearnParams, Policy, StateGrid};
 use strider::anim::{Clip, Database, DbParams, actor, procedural};
 use strider::sim::{
-    AnimatedBody, Animation, AnimationHandle, Body, Command, ControllerParams, LayeredController, OpenSpace,
-    Simulation, StepParameters, Surroundings,
+    AnimatedBody, Animation, AnimationHandle, Body, Command, OpenSpace, Simulation, StepParameters, Surroundings,
 };
 use strider::world::Pose;
 
@@ -19,7 +18,7 @@ fn main() {
 }
 
 fn database() -> Database {
-    procedural::default_database().expect("built-in database")
+    strider::builtin::database().expect("built-in database")
 }
 
 /// The default clips repeated `copies` times, each copy's joints turned by a small distinct
@@ -52,11 +51,7 @@ fn choose_next_interval(bencher: Bencher) {
     let anim = AnimationHandle(Arc::new(strider::builtin::animation().expect("built-in character")));
     let scenario = strider::maps::generate::random_world(strider::maps::generate::Density::Cluttered, 7);
     let world = scenario.world();
-    let rules = include_str!("../scripts/nav.rhai");
-    let log = strider::script::ScriptLog::new();
-    let engines =
-        strider::script::load_engines(rules, "nav.rhai", strider::script::Limits::default(), &log).expect("rules");
-    let controller = LayeredController::new(&engines, ControllerParams::default()).expect("controller");
+    let controller = strider::builtin::controller().expect("built-in rules");
     let params = StepParameters { animation: Some(anim), ..StepParameters::default() };
     let mut sim = Simulation::new(world.clone(), params);
     sim.add_agent(scenario.tasks[0], &controller);

@@ -3,8 +3,8 @@
 
 use divan::{Bencher, black_box};
 use strider::scenario::Scenario;
-use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
-use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+use strider::script::{Limits, ScriptLog, load_scenario};
+use strider::sim::{LayeredController, Simulation, StepParameters};
 
 fn main() {
     divan::main();
@@ -15,9 +15,7 @@ fn setup() -> (Scenario, LayeredController) {
     let scenario =
         load_scenario(include_str!("../maps/cluttered.rhai"), "maps/cluttered.rhai", Limits::default(), &log)
             .expect("cluttered map");
-    let engines = load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log)
-        .expect("navigation rules");
-    (scenario, LayeredController::new(&engines, ControllerParams::default()).expect("controller"))
+    (scenario, strider::builtin::controller().expect("built-in rules"))
 }
 
 /// One agent-step: sensing, the all-around scan (amortised), fuzzy control and the move.

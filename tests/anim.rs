@@ -8,17 +8,17 @@ use std::sync::Arc;
 
 use glam::DVec2;
 use strider::anim::player::{Choice, Chooser, Player, PlayerParams, SwitchPoint};
-use strider::anim::policy::{Errors, Policy, Strategy, evaluate};
+use strider::anim::policy::{Errors, Strategy, evaluate};
 use strider::anim::warp::WarpLimits;
 use strider::anim::{Database, Ground};
-use strider::builtin::{self, DEFAULT_POLICY};
+use strider::builtin;
 use strider::cli::anim::parse_intervals;
 use strider::experiment::run_episode;
 use strider::load::{load_database, save_database};
-use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
+use strider::script::{Limits, ScriptLog, load_scenario};
 use strider::sim::{
-    AnimatedBody, Animation, AnimationHandle, Body, Command, ControllerParams, LayeredController, OpenSpace,
-    StepParameters, Surroundings, measure_tracking,
+    AnimatedBody, Animation, AnimationHandle, Body, Command, LayeredController, OpenSpace, StepParameters,
+    Surroundings, measure_tracking,
 };
 use strider::world::{Obstacle, ObstacleShape, Pose, World};
 
@@ -38,9 +38,7 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn animation() -> Arc<Animation> {
-    let db = builtin::database().expect("built-in database");
-    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).expect("shipped policy matches the built-in database");
-    Arc::new(Animation::new(db, policy))
+    Arc::new(builtin::animation().expect("shipped policy matches the built-in database"))
 }
 
 #[test]
@@ -133,9 +131,7 @@ fn hand_written_interval_lists() {
 }
 
 fn controller() -> LayeredController {
-    let log = ScriptLog::new();
-    let engines = load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
-    LayeredController::new(&engines, ControllerParams::default()).unwrap()
+    builtin::controller().expect("built-in rules")
 }
 
 #[test]

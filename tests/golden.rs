@@ -161,14 +161,12 @@ fn empty_world_one_agent() {
 #[test]
 fn u_trap_episode_final_frame() {
     use strider::render::sim_view::scene_of;
-    use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
-    use strider::sim::{ControllerParams, LayeredController, Simulation, StepParameters};
+    use strider::script::{Limits, ScriptLog, load_scenario};
+    use strider::sim::{Simulation, StepParameters};
     let log = ScriptLog::new();
     let scenario =
         load_scenario(include_str!("../maps/u_trap.rhai"), "maps/u_trap.rhai", Limits::default(), &log).unwrap();
-    let engines =
-        load_engines(include_str!("../scripts/nav.rhai"), "scripts/nav.rhai", Limits::default(), &log).unwrap();
-    let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
+    let controller = strider::builtin::controller().unwrap();
     let mut sim = Simulation::new(scenario.world(), StepParameters::default());
     sim.add_agent(scenario.tasks[0], &controller);
     while !sim.all_done() {
@@ -183,21 +181,17 @@ fn u_trap_episode_final_frame() {
 #[test]
 fn animated_character_footprints_and_poses() {
     use std::sync::Arc;
-    use strider::anim::policy::Policy;
-    use strider::builtin::{self, DEFAULT_POLICY};
+    use strider::builtin;
     use strider::render::png::PngPainter;
     use strider::render::poses::draw_strip;
     use strider::render::sim_view::{scene_of, strip_pose_of};
-    use strider::script::{Limits, ScriptLog, load_engines, load_scenario};
-    use strider::sim::{Animation, AnimationHandle, ControllerParams, LayeredController, Simulation, StepParameters};
+    use strider::script::{Limits, ScriptLog, load_scenario};
+    use strider::sim::{AnimationHandle, Simulation, StepParameters};
 
     let log = ScriptLog::new();
     let scenario = load_scenario(include_str!("../maps/sparse.rhai"), "sparse.rhai", Limits::default(), &log).unwrap();
-    let engines = load_engines(include_str!("../scripts/nav.rhai"), "nav.rhai", Limits::default(), &log).unwrap();
-    let controller = LayeredController::new(&engines, ControllerParams::default()).unwrap();
-    let db = builtin::database().unwrap();
-    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
-    let animation = AnimationHandle(Arc::new(Animation::new(db, policy)));
+    let controller = builtin::controller().unwrap();
+    let animation = AnimationHandle(Arc::new(builtin::animation().unwrap()));
     let params = StepParameters { animation: Some(animation), ..StepParameters::default() };
     let mut sim = Simulation::new(scenario.world(), params);
     sim.add_agent(scenario.tasks[0], &controller);

@@ -179,12 +179,8 @@ fn same_run_as_headless() {
 #[test]
 fn a_character_on_terrain_shows_its_footstep_window() {
     use std::sync::Arc;
-    use strider::anim::policy::Policy;
-    use strider::builtin::{self, DEFAULT_POLICY};
-    use strider::sim::{Animation, AnimationHandle};
-    let db = builtin::database().unwrap();
-    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
-    let animation = Some(AnimationHandle(Arc::new(Animation::new(db, policy))));
+    use strider::sim::AnimationHandle;
+    let animation = Some(AnimationHandle(Arc::new(strider::builtin::animation().unwrap())));
     let config = Config { map: MapSpec::file("maps/terrain_fig8_trap.rhai"), rules: None, seed: 1, animation };
     let mut app = App::load(config).unwrap();
     // Walk until a few steps have been planned and one is playing.
@@ -234,12 +230,8 @@ fn a_character_on_terrain_shows_its_footstep_window() {
 #[test]
 fn a_character_under_a_bar_shows_its_upper_body() {
     use std::sync::Arc;
-    use strider::anim::policy::Policy;
-    use strider::builtin::{self, DEFAULT_POLICY};
-    use strider::sim::{Animation, AnimationHandle};
-    let db = builtin::database().unwrap();
-    let policy = Policy::from_bytes(DEFAULT_POLICY, &db).unwrap();
-    let animation = Some(AnimationHandle(Arc::new(Animation::new(db, policy))));
+    use strider::sim::AnimationHandle;
+    let animation = Some(AnimationHandle(Arc::new(strider::builtin::animation().unwrap())));
     let config = Config { map: MapSpec::file("maps/upper_overhead_bar.rhai"), rules: None, seed: 1, animation };
     let mut app = App::load(config).unwrap();
     // Walk until the waist bends for the first bar.

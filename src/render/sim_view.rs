@@ -222,15 +222,13 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::sim::{Animation, OpenSpace};
+    use crate::sim::OpenSpace;
     use crate::world::{Obstacle, ObstacleShape, Pose};
 
     #[test]
     fn a_bar_ahead_is_cut_into_both_views_and_the_front_view_turns_the_body() {
-        let db = crate::builtin::database().unwrap();
-        let policy = crate::builtin::policy(&db).unwrap();
-        let mut body =
-            AnimatedBody::new(Arc::new(Animation::new(db, policy)), Pose { position: DVec2::ZERO, yaw: 0.0 }, 0.3);
+        let animation = Arc::new(crate::builtin::animation().unwrap());
+        let mut body = AnimatedBody::new(animation, Pose { position: DVec2::ZERO, yaw: 0.0 }, 0.3);
         body.step(Default::default(), 0.05, &mut OpenSpace);
         let bar = Obstacle::build(
             ObstacleShape::Box { center: DVec2::new(0.3, 0.0), width: 0.1, height: 1.2, yaw: 0.0 },
