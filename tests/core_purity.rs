@@ -5,9 +5,25 @@
 
 use std::path::{Path, PathBuf};
 
-/// The core: modules below every front-end.
-const CORE: &[&str] =
-    &["fuzzy", "geom", "world", "plan", "anim", "footstep", "upper", "sim", "experiment", "scenario", "maps", "rng"];
+/// The core: every layer of ARCHITECTURE.md up to and including simulation.
+const CORE: &[&str] = &[
+    "rng",
+    "diagnostic",
+    "lex",
+    "geom",
+    "ground",
+    "anim",
+    "footstep",
+    "world",
+    "fuzzy",
+    "plan",
+    "upper",
+    "scenario",
+    "maps",
+    "sim",
+    "experiment",
+    "baseline",
+];
 
 /// What the core may not name.
 const FORBIDDEN: &[&str] = &[
