@@ -645,10 +645,10 @@ impl Player {
 
     /// Appends to `out` the world path of the root over the rest of the interval playing if it
     /// went on with `warp` (see [`SwitchPoint::path`]).
-    pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) {
+    pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) -> Ground {
         let mut root = self.root;
         root.warp = warp;
-        let _ = root.path(db, 1.0 / self.params.frame_rate, out);
+        root.path(db, 1.0 / self.params.frame_rate, out)
     }
 
     /// Seconds into the interval playing.
@@ -681,7 +681,7 @@ impl Player {
     /// Appends to `out` the world path of the root over the rest of the interval playing (see
     /// [`SwitchPoint::path`]).
     pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
-        self.remaining_path_with(db, self.root.warp, out);
+        let _ = self.remaining_path_with(db, self.root.warp, out);
     }
 
     /// The switch point an early switch made now would start from.
