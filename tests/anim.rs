@@ -326,7 +326,10 @@ fn the_character_looks_before_it_steps() {
         blocked += u32::from(out.blocked);
         held += u32::from(out.held);
         let gap = world.clearance(body.pose().position, 5.0, &mut scratch) - body.radius();
-        assert!(gap >= a.clearance_m - 0.01, "gap {gap} m at {:?}", body.pose());
+        // Until it is first held it keeps its margin; held for a while, it may turn on the spot
+        // as close as the room every frame keeps.
+        let least = if held == 0 { a.clearance_m - 0.01 } else { strider::sim::animated::KEEP_ROOM_M - 1e-9 };
+        assert!(gap >= least, "gap {gap} m at {:?}", body.pose());
     }
     assert_eq!(blocked, 0, "the last-resort guard had to hold the root");
     assert!(held > 0, "standing against the command counts as held");
@@ -368,8 +371,14 @@ fn every_interval_reaches_a_stop_and_turns_on_the_spot_in_one_switch() {
         assert!(kinds.iter().any(|k| k.stops || k.in_place), "interval {i} cannot stop");
         assert!(kinds.iter().any(|k| k.spot_turn > 0), "interval {i} cannot turn left on the spot");
         assert!(kinds.iter().any(|k| k.spot_turn < 0), "interval {i} cannot turn right on the spot");
-        let sum: f64 = cands.iter().map(|c| c.weight).sum();
+        // The policy's actions share Eq. 3's weight; side steps and steps back come after them.
+        let ranked = db.policy_actions[i];
+        let sum: f64 = cands[..ranked].iter().map(|c| c.weight).sum();
         assert!((sum - 1.0).abs() < 1e-9);
+        // (Within a side step, its own next interval is the successor.)
+        assert!(db.kinds[i].shuffle != 0 || kinds[..ranked].iter().all(|k| k.shuffle == 0));
+        assert!(kinds[ranked..].iter().all(|k| k.shuffle != 0));
+        assert_eq!(ranked < cands.len(), db.kinds[i].ends_at_rest, "interval {i}");
     }
     // Every interval has its mirror, and mirrored intervals have mirrored candidates in order.
     for i in 0..db.intervals.len() {
@@ -398,4 +407,45 @@ fn turning_ability_comes_from_the_database() {
         b.step(Command { turn_rate: 0.0, speed: 1.0, toward: None }, 0.05, &mut OpenSpace);
     }
     assert!(b.pose().position.x > 1.0, "{:?}", b.pose());
+}
+
+#[test]
+fn side_steps_and_steps_back_keep_the_feet_planted() {
+    // From standing, each side step and step back in turn, warped as the look-ahead would warp
+    // them toward a heading and speed they cannot meet: the body goes where the clip goes,
+    // facing the same way, and no plant slides.
+    let a = animation();
+    let db = &a.db;
+    // Escape `k` at the first standing switch point, then the natural successors.
+    struct Escape(usize, bool);
+    impl Chooser for Escape {
+        fn choose(&mut self, db: &Database, at: &SwitchPoint) -> Choice {
+            let (n, ranked) = (db.candidates[at.ending].len(), db.policy_actions[at.ending]);
+            if self.1 || n == ranked {
+                return Choice::from(0);
+            }
+            self.1 = true;
+            let c = ranked + self.0.min(n - ranked - 1);
+            let speed = 1.3 * db.intervals[db.candidates[at.ending][c].interval].speed;
+            Choice { candidate: c, warp: at.warp_toward(db, c, 0.3, speed, &WarpLimits::default()) }
+        }
+    }
+    let idle = (0..db.intervals.len()).find(|&i| db.clips[db.intervals[i].clip].name == "idle").unwrap();
+    let escapes = db.candidates[idle].len() - db.policy_actions[idle];
+    assert_eq!(escapes, 4, "side steps each way and steps back on each foot after standing");
+    let mut shuffles = Vec::new();
+    for k in 0..escapes {
+        let mut player = Player::new(db, idle, Ground::default(), PlayerParams::default());
+        let mut chooser = Escape(k, false);
+        let start = player.ground();
+        for _ in 0..150 {
+            player.advance_frame(db, &mut chooser);
+        }
+        assert_eq!(player.metrics.sliding_plants, 0, "escape {k}: {:?}", player.metrics);
+        let moved = start.to_local(player.ground());
+        assert!(moved.yaw.abs() < 0.05 && (moved.x.hypot(moved.y) - 0.3).abs() < 0.1, "escape {k}: {moved:?}");
+        shuffles.push(db.kinds[db.candidates[idle][db.policy_actions[idle] + k].interval].shuffle);
+    }
+    shuffles.sort();
+    assert_eq!(shuffles, [-1, 1, 2, 2]);
 }

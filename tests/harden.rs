@@ -114,9 +114,9 @@ fn a_policy_counted_to_the_limit_cannot_be_resumed() {
     let dir = temp_dir("resume");
     let policy = dir.join("p.policy");
     std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/default.policy"), &policy).unwrap();
-    // The shipped policy holds 1,000,000 episodes: asking for fewer is an error, not NaN%.
+    // The shipped policy holds 3,000,000 episodes: asking for fewer is an error, not NaN%.
     let o = strider(&["train", "--resume", "--episodes", "1000", "--out", s(&policy)]);
-    refused(&o, &["already trained for 1000000 episodes"]);
+    refused(&o, &["already trained for 3000000 episodes"]);
     assert!(!stdout(&o).contains("NaN"));
 }
 

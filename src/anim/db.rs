@@ -169,6 +169,10 @@ pub struct IntervalKind {
     /// Turns sharply while moving: not in place, heading change at least [`SHARP_TURN_RAD`];
     /// +1 left, −1 right, 0 not a sharp turn.
     pub sharp_turn: i8,
+    /// Part of a step that does not go forward ([`Database::shuffle_of`]): +1 to the left, −1 to
+    /// the right, 2 back, 0 none. Side steps and steps back are taken only to get out of a
+    /// tight place (they come after the other candidates, [`Database::policy_actions`]).
+    pub shuffle: i8,
 }
 
 impl IntervalKind {
@@ -177,6 +181,16 @@ impl IntervalKind {
         self.ends_at_rest || self.in_place
     }
 }
+
+/// A side step or a step back ([`IntervalKind::shuffle`]) goes at least this far from the start
+/// heading, radians (60°; 120° for a step back).
+pub const SHUFFLE_RAD: f64 = std::f64::consts::FRAC_PI_3;
+
+/// A candidate list (interval, Eq. 2 distance) and how many of it the policy ranks.
+type RankedList = (Vec<(usize, f64)>, usize);
+
+/// Intervals looked along a clip for where a step comes to rest ([`Database::shuffle_of`]).
+const SHUFFLE_REACH: usize = 3;
 
 /// Why a database cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -288,8 +302,12 @@ pub struct Database {
     /// whose start pose is nearest to its end pose when the clip ends there.
     pub successor: Vec<usize>,
     /// Candidates at the end of every interval: its successor first, then the successor's
-    /// neighbours, then any stop or turn on the spot the neighbours lack.
+    /// neighbours, then any stop or turn on the spot the neighbours lack; after a standing
+    /// interval, side steps and steps back last.
     pub candidates: Vec<Vec<Candidate>>,
+    /// How many of each interval's candidates the policy ranks: all but the side steps and steps
+    /// back at the end of the list, which only a character held in a tight place takes.
+    pub policy_actions: Vec<usize>,
     /// The left–right mirror of every interval, when the database holds it.
     pub mirror: Vec<Option<usize>>,
     /// For intervals with a mirror: `mirror_candidate[i][a]` is the index, among the candidates
@@ -723,6 +741,7 @@ impl Database {
             neighbours: Vec::new(),
             successor: Vec::new(),
             candidates: Vec::new(),
+            policy_actions: Vec::new(),
             mirror: Vec::new(),
             mirror_candidate: Vec::new(),
             joint_weights,
@@ -779,6 +798,8 @@ impl Database {
                 db.intervals[m].motion = Ground { x: a.x, y: -a.y, yaw: -a.yaw };
             }
         }
+        let shuffles: Vec<i8> = (0..db.intervals.len()).map(|i| db.shuffle_of(i)).collect();
+        db.kinds = shuffles.iter().map(|&shuffle| IntervalKind { shuffle, ..IntervalKind::default() }).collect();
         db.neighbours = db.nearest_neighbours();
         db.symmetrize_neighbours();
         db.successor = (0..db.intervals.len()).map(|i| db.natural_successor(i)).collect();
@@ -790,11 +811,11 @@ impl Database {
                 db.successor[m] = s;
             }
         }
-        db.kinds = (0..db.intervals.len()).map(|i| db.kind_of(i)).collect();
+        db.kinds = (0..db.intervals.len()).map(|i| IntervalKind { shuffle: shuffles[i], ..db.kind_of(i) }).collect();
         let mean: f64 = db.neighbours.iter().flatten().map(|&(_, d)| d).sum::<f64>()
             / db.neighbours.iter().map(Vec::len).sum::<usize>().max(1) as f64;
         db.epsilon = (0.5 * mean).max(1e-6);
-        db.candidates = db.build_candidates();
+        (db.candidates, db.policy_actions) = db.build_candidates();
         db.mirror_candidate = (0..db.intervals.len())
             .map(|i| match db.mirror[i] {
                 Some(m) => {
@@ -829,15 +850,46 @@ impl Database {
         &self.ends[i][usize::from(end)]
     }
 
+    /// Whether the root is at rest by the end of interval `j`.
+    fn rests(&self, j: usize) -> bool {
+        let iv = &self.intervals[j];
+        let ft = self.clips[iv.clip].frame_time;
+        let back = ((REST_WINDOW_S / ft).round() as usize).clamp(1, iv.end - iv.start);
+        let (a, b) = (self.tracks[iv.clip][iv.end - back], self.tracks[iv.clip][iv.end]);
+        (b.x - a.x).hypot(b.y - a.y) / (back as f64 * ft) < REST_SPEED_MPS
+    }
+
+    /// Whether interval `i` is part of a side step or a step back ([`IntervalKind::shuffle`]):
+    /// along its clip it comes to rest within [`SHUFFLE_REACH`] intervals, having moved at least
+    /// [`IN_PLACE_M`] at least [`SHUFFLE_RAD`] away from its start heading (twice that: back)
+    /// and turned less than [`SPOT_TURN_RAD`].
+    pub fn shuffle_of(&self, i: usize) -> i8 {
+        let iv = &self.intervals[i];
+        let mut last = i;
+        while !self.rests(last) {
+            let next = last + 1;
+            let joined =
+                self.intervals.get(next).is_some_and(|n| n.clip == iv.clip && n.start == self.intervals[last].end);
+            if !joined || next - i >= SHUFFLE_REACH {
+                return 0;
+            }
+            last = next;
+        }
+        let track = &self.tracks[iv.clip];
+        let d = track[iv.start].to_local(track[self.intervals[last].end]);
+        let heading = d.y.atan2(d.x).abs();
+        if d.x.hypot(d.y) < IN_PLACE_M || d.yaw.abs() >= SPOT_TURN_RAD || heading < SHUFFLE_RAD {
+            0
+        } else if heading > 2.0 * SHUFFLE_RAD {
+            2
+        } else {
+            d.y.signum() as i8
+        }
+    }
+
     /// The kind of interval `i`; needs the successors.
     fn kind_of(&self, i: usize) -> IntervalKind {
-        let rest = |j: usize| {
-            let iv = &self.intervals[j];
-            let ft = self.clips[iv.clip].frame_time;
-            let back = ((REST_WINDOW_S / ft).round() as usize).clamp(1, iv.end - iv.start);
-            let (a, b) = (self.tracks[iv.clip][iv.end - back], self.tracks[iv.clip][iv.end]);
-            (b.x - a.x).hypot(b.y - a.y) / (back as f64 * ft) < REST_SPEED_MPS
-        };
+        let rest = |j: usize| self.rests(j);
         let iv = &self.intervals[i];
         let track = &self.tracks[iv.clip];
         let g0 = track[iv.start];
@@ -858,6 +910,7 @@ impl Database {
             stops: ends_at_rest || rest(self.successor[i]),
             goes: moving(i),
             sharp_turn,
+            shuffle: 0,
         }
     }
 
@@ -950,9 +1003,11 @@ impl Database {
     /// The candidates after every interval: its successor, the successor's neighbours, and —
     /// where none of those stops, turns on the spot to one side, gets going, or (after a moving
     /// interval) turns sharply to one side while moving — the interval nearest to the successor
-    /// (Eq. 2) that does, with the mirror of anything added to a symmetric interval.
-    /// Mirror pairs get mirrored lists in the same order.
-    fn build_candidates(&self) -> Vec<Vec<Candidate>> {
+    /// (Eq. 2) that does, with the mirror of anything added to a symmetric interval; after an
+    /// interval that ends at rest, the nearest side step to each side and step back come last.
+    /// Mirror pairs get mirrored lists in the same order. Also returns how many of each list
+    /// the policy ranks (all but those side steps and steps back).
+    fn build_candidates(&self) -> (Vec<Vec<Candidate>>, Vec<usize>) {
         let n = self.intervals.len();
         let nearest_where = |s: usize, want: &dyn Fn(&IntervalKind) -> bool| -> Option<(usize, f64)> {
             let mut best: Option<(usize, f64)> = None;
@@ -964,22 +1019,30 @@ impl Database {
             }
             best
         };
-        let list = |i: usize| -> Vec<(usize, f64)> {
+        let list = |i: usize| -> (Vec<(usize, f64)>, usize) {
             let s = self.successor[i];
             let mut c = vec![(s, 0.0)];
             c.extend(self.neighbours[s].iter().copied());
-            let wants: [&dyn Fn(&IntervalKind) -> bool; 6] = [
-                &|k| k.stops || k.in_place,
-                &|k| k.spot_turn > 0,
-                &|k| k.spot_turn < 0,
-                &|k| k.goes,
+            let wants: [&dyn Fn(&IntervalKind) -> bool; 9] = [
+                &|k| k.shuffle == 0 && (k.stops || k.in_place),
+                &|k| k.shuffle == 0 && k.spot_turn > 0,
+                &|k| k.shuffle == 0 && k.spot_turn < 0,
+                &|k| k.shuffle == 0 && k.goes,
                 &|k| k.sharp_turn > 0,
                 &|k| k.sharp_turn < 0,
+                &|k| k.shuffle == 1,
+                &|k| k.shuffle == -1,
+                &|k| k.shuffle == 2,
             ];
             let moving = self.kinds[i].goes;
+            let resting = self.kinds[i].ends_at_rest;
+            let mut ranked = 0;
             for (w, want) in wants.into_iter().enumerate() {
-                if w >= 4 && !moving {
+                if (w == 4 || w == 5) && !moving || w >= 6 && !resting {
                     continue;
+                }
+                if w == 6 {
+                    ranked = c.len();
                 }
                 if !c.iter().any(|&(j, _)| want(&self.kinds[j]))
                     && let Some((j, d)) = nearest_where(s, want)
@@ -993,33 +1056,38 @@ impl Database {
                     }
                 }
             }
-            c
+            if !resting {
+                ranked = c.len();
+            }
+            (c, ranked)
         };
-        let mut lists: Vec<Option<Vec<(usize, f64)>>> = vec![None; n];
+        let mut lists: Vec<Option<RankedList>> = vec![None; n];
         for i in 0..n {
             if lists[i].is_some() {
                 continue;
             }
-            let l = list(i);
+            let (l, ranked) = list(i);
             if let Some(m) = self.mirror[i]
                 && m != i
             {
                 let mapped: Option<Vec<(usize, f64)>> =
                     l.iter().map(|&(j, d)| self.mirror[j].map(|x| (x, d))).collect();
                 if let Some(ml) = mapped {
-                    lists[m] = Some(ml);
+                    lists[m] = Some((ml, ranked));
                 }
             }
-            lists[i] = Some(l);
+            lists[i] = Some((l, ranked));
         }
-        lists
+        let ranked: Vec<usize> = lists.iter().map(|l| l.as_ref().map_or(0, |l| l.1)).collect();
+        let lists = lists
             .into_iter()
             .enumerate()
             .map(|(i, l)| {
-                let c = l.unwrap_or_default();
+                let c = l.map(|l| l.0).unwrap_or_default();
                 let iv = &self.intervals[i];
                 let end = self.relative_pose(iv.clip, iv.end as f64);
-                let total: f64 = c.iter().map(|&(_, d)| 1.0 / (d + self.epsilon)).sum();
+                // The policy's actions share the weight of Eq. 3.
+                let total: f64 = c[..ranked[i]].iter().map(|&(_, d)| 1.0 / (d + self.epsilon)).sum();
                 c.into_iter()
                     .map(|(j, d)| {
                         let jv = &self.intervals[j];
@@ -1029,7 +1097,8 @@ impl Database {
                     })
                     .collect()
             })
-            .collect()
+            .collect();
+        (lists, ranked)
     }
 
     /// Pose distance, Eq. 1: `w_root·|r − r'|² + Σ_i w_i·θ(q_i, q'_i)²`.
@@ -1081,7 +1150,7 @@ impl Database {
     fn k_best(&self, i: usize, k: usize, per_clip: usize, w: &[f64], wr: f64) -> Vec<(usize, f64)> {
         let mut best: Vec<(usize, f64)> = Vec::with_capacity(k + 1);
         for j in 0..self.intervals.len() {
-            if j == i {
+            if j == i || self.kinds[j].shuffle != 0 {
                 continue;
             }
             let bound = if best.len() == k { best[k - 1].1 } else { f64::INFINITY };
@@ -1113,7 +1182,7 @@ impl Database {
         let end = self.relative_pose(iv.clip, iv.end as f64);
         let mut best = (usize::MAX, f64::INFINITY);
         for j in 0..self.intervals.len() {
-            if j == i {
+            if j == i || self.kinds[j].shuffle != 0 {
                 continue;
             }
             // The first sample of an interval is its start pose in its own frame.

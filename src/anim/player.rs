@@ -11,7 +11,9 @@
 //! **Foot locking** (seed 002 §4.1's two-link leg IK): while the database says a foot is on the
 //! ground, its contact point (heel, or toe once the heel lifts) is held where it touched down.
 //! Blends and corrections that would move it are undone by a two-bone IK of hip and knee, the
-//! foot keeping its animated orientation; at lift-off the correction fades out over
+//! foot keeping its animated orientation — or, for a leg with the actor's channels (hip about Y
+//! then X, knee and ankle about Y: no twist), within those channels, so that a written BVH file
+//! shows what was played, the foot turning as the hip lets it about the point held; at lift-off the correction fades out over
 //! [`PlayerParams::release_s`]. A planted foot whose heading turns (a blend between a turn on
 //! the spot and a step) pivots on its toe with the heel lifted, as a person does — the actor's
 //! hip cannot turn a flat foot on the ground. So switching intervals never slides or teleports
@@ -578,6 +580,8 @@ pub struct Player {
     source_pose: Pose,
     pose: Pose,
     globals: Vec<(DVec3, DQuat)>,
+    /// Room for the globals of a pose being solved.
+    scratch_globals: Vec<(DVec3, DQuat)>,
     history: Vec<Vec<DVec3>>,
     recent_jerk: Vec<f64>,
     since_switch: Option<usize>,
@@ -612,6 +616,7 @@ impl Player {
             source_pose: rel.clone(),
             rel,
             globals: Vec::new(),
+            scratch_globals: Vec::new(),
             history: Vec::new(),
             recent_jerk: Vec::new(),
             since_switch: None,
@@ -642,10 +647,10 @@ impl Player {
 
     /// Appends to `out` the world path of the root over the rest of the interval playing if it
     /// went on with `warp` (see [`SwitchPoint::path`]).
-    pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) {
+    pub fn remaining_path_with(&self, db: &Database, warp: Warp, out: &mut Vec<DVec2>) -> Ground {
         let mut root = self.root;
         root.warp = warp;
-        let _ = root.path(db, 1.0 / self.params.frame_rate, out);
+        root.path(db, 1.0 / self.params.frame_rate, out)
     }
 
     /// Seconds into the interval playing.
@@ -678,7 +683,7 @@ impl Player {
     /// Appends to `out` the world path of the root over the rest of the interval playing (see
     /// [`SwitchPoint::path`]).
     pub fn remaining_path(&self, db: &Database, out: &mut Vec<DVec2>) {
-        self.remaining_path_with(db, self.root.warp, out);
+        let _ = self.remaining_path_with(db, self.root.warp, out);
     }
 
     /// The switch point an early switch made now would start from.
@@ -933,7 +938,22 @@ impl Player {
                     Some(r) => (toe + r * (ankle - toe), r * q),
                     None => (ankle, q),
                 };
-                leg_ik(db, &mut self.pose, &self.globals, db.feet[f], target + lock.correction.extend(0.0), rot);
+                let mut target = target + lock.correction.extend(0.0);
+                leg_ik(db, &mut self.pose, &self.globals, db.feet[f], target, rot);
+                // A leg that cannot twist turns its foot as the hip lets it, not as asked: the
+                // held point is then put back where it is held, moving the ankle by what it missed.
+                if lock.down {
+                    for _ in 0..HELD_POINT_PASSES {
+                        db.skeleton.globals(&self.pose, &mut self.scratch_globals);
+                        let now = point_positions(&self.scratch_globals, db.feet, &db.contact_points)[f][lock.pivot];
+                        let miss = lock.anchor - now.truncate();
+                        if miss.length_squared() < 1e-8 {
+                            break;
+                        }
+                        target += miss.extend(0.0);
+                        leg_ik(db, &mut self.pose, &self.globals, db.feet[f], target, rot);
+                    }
+                }
                 changed = true;
             }
         }
@@ -1020,6 +1040,10 @@ fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, tar
     let Some(knee) = joints[foot].parent else { return };
     let Some(hip) = joints[knee].parent else { return };
     let hip_parent_rot = joints[hip].parent.map_or(DQuat::IDENTITY, |p| g[p].1);
+    if hinged_leg(&joints[hip], &joints[knee], &joints[foot]) {
+        hinged_leg_ik(pose, g, [hip, knee, foot], hip_parent_rot, target, foot_rot, [&joints[knee], &joints[foot]]);
+        return;
+    }
     let (hp, kp, ap) = (g[hip].0, g[knee].0, g[foot].0);
     let (l1, l2) = ((kp - hp).length(), (ap - kp).length());
     if l1 < 1e-6 || l2 < 1e-6 {
@@ -1049,6 +1073,71 @@ fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, tar
     pose.rotations[knee] = (hip_rot.inverse() * knee_rot).normalize();
     pose.rotations[foot] = (knee_rot.inverse() * foot_rot).normalize();
 }
+
+/// Whether a leg has the channels of the built-in actor's (seed 002 Fig. 1): a hip turning
+/// about Y then X, a knee and an ankle about Y, the thigh and the shin along −Z. Such a leg has
+/// no twist at the hip, so its IK must not ask for one: a written BVH could not carry it.
+fn hinged_leg(hip: &super::skeleton::Joint, knee: &super::skeleton::Joint, foot: &super::skeleton::Joint) -> bool {
+    use super::skeleton::Channel::{XRotation, YRotation};
+    let down = |o: DVec3| o.z < 0.0 && o.truncate().length() <= 1e-9 * o.length();
+    let rotations =
+        |j: &super::skeleton::Joint| j.channels.iter().copied().filter(|c| !c.is_position()).collect::<Vec<_>>();
+    rotations(hip) == [YRotation, XRotation]
+        && rotations(knee) == [YRotation]
+        && rotations(foot) == [YRotation]
+        && down(knee.offset)
+        && down(foot.offset)
+}
+
+/// Two-link IK within a [`hinged_leg`]'s channels: the hip's Y and X angles and the knee's Y
+/// angle put the ankle exactly on `target` (the knee bending the way it bends now), and the
+/// ankle's Y angle gives the foot the pitch of `foot_rot` (its twist about the ankle's axis).
+/// Every rotation is a product of the leg's own channels, so what is shown is what a written
+/// BVH file holds.
+fn hinged_leg_ik(
+    pose: &mut Pose,
+    g: &[(DVec3, DQuat)],
+    [hip, knee, foot]: [usize; 3],
+    pelvis: DQuat,
+    target: DVec3,
+    foot_rot: DQuat,
+    [knee_joint, foot_joint]: [&super::skeleton::Joint; 2],
+) {
+    let (l1, l2) = (knee_joint.offset.length(), foot_joint.offset.length());
+    if l1 < 1e-6 || l2 < 1e-6 {
+        return;
+    }
+    let t = pelvis.inverse() * (target - g[hip].0);
+    let d = t.length().clamp((l1 - l2).abs() + 1e-6, l1 + l2 - 1e-6);
+    let t = if t.length() > 1e-9 { t * (d / t.length()) } else { DVec3::new(0.0, 0.0, -d) };
+    // The knee: its angle from the law of cosines, on the side it bends now (forward: the shin
+    // swings back for a positive angle).
+    let bend = twist_about(pose.rotations[knee], DVec3::Y);
+    let c =
+        ((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).clamp(-1.0, 1.0).acos() * if bend < 0.0 { -1.0 } else { 1.0 };
+    // The ankle in the hip's frame, in its XZ plane; X then Y at the hip take it to the target.
+    let (px, pz) = (-l2 * c.sin(), -l1 - l2 * c.cos());
+    let b = (-t.y / pz).clamp(-1.0, 1.0).asin();
+    let a = t.x.atan2(t.z) - px.atan2(pz * b.cos());
+    let hip_rot = DQuat::from_rotation_y(a) * DQuat::from_rotation_x(b);
+    let knee_rot = DQuat::from_rotation_y(c);
+    let above = pelvis * hip_rot * knee_rot;
+    let e = twist_about(above.inverse() * foot_rot, DVec3::Y);
+    pose.rotations[hip] = hip_rot;
+    pose.rotations[knee] = knee_rot;
+    pose.rotations[foot] = DQuat::from_rotation_y(e);
+}
+
+/// The angle of the twist of `q` about the unit `axis` (swing–twist decomposition), in [-π, π].
+fn twist_about(q: DQuat, axis: DVec3) -> f64 {
+    let v = DVec3::new(q.x, q.y, q.z).dot(axis);
+    let (v, w) = if q.w.is_sign_negative() { (-v, -q.w) } else { (v, q.w) };
+    2.0 * v.atan2(w)
+}
+
+/// Passes that put a planted foot's held point back after its leg's IK ([`hinged_leg_ik`] turns
+/// the foot as the hip lets it).
+const HELD_POINT_PASSES: usize = 3;
 
 fn shortest(q: DQuat) -> DQuat {
     if q.w < 0.0 { -q } else { q }

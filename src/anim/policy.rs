@@ -315,7 +315,7 @@ impl Layout {
     fn new(db: &Database, grid: &StateGrid) -> Layout {
         let n = db.intervals.len();
         let cells = grid.cells();
-        let actions: Vec<usize> = db.candidates.iter().map(Vec::len).collect();
+        let actions: Vec<usize> = db.policy_actions.clone();
         let mirror: Vec<Option<usize>> = (0..n)
             .map(|i| {
                 db.mirror[i].filter(|&m| {
@@ -929,7 +929,7 @@ impl Ranker<'_> {
         rng: &mut ChaCha8Rng,
         out: &mut Vec<usize>,
     ) {
-        let na = db.candidates[interval].len();
+        let na = db.policy_actions[interval];
         out.clear();
         match self.strategy {
             Strategy::Learnt => {

@@ -107,6 +107,11 @@ impl Warp {
     pub fn toward(iv: &Interval, kind: IntervalKind, direction: f64, speed: f64, limits: &WarpLimits) -> Warp {
         let direction = if direction.is_finite() { wrap_angle(direction) } else { 0.0 };
         let (want, turn) = (direction, iv.turn());
+        // Side steps and steps back play as recorded: both feet carry the body sideways or
+        // back, and a scaled or bent root would drag the planted one.
+        if kind.shuffle != 0 {
+            return Warp::NONE;
+        }
         if kind.in_place {
             if kind.spot_turn == 0 || turn.abs() < 1e-6 {
                 return Warp::NONE;
@@ -191,8 +196,15 @@ mod tests {
         }
     }
 
-    const MOVING: IntervalKind =
-        IntervalKind { ends_at_rest: false, in_place: false, spot_turn: 0, stops: false, goes: true, sharp_turn: 0 };
+    const MOVING: IntervalKind = IntervalKind {
+        ends_at_rest: false,
+        in_place: false,
+        spot_turn: 0,
+        stops: false,
+        goes: true,
+        sharp_turn: 0,
+        shuffle: 0,
+    };
 
     #[test]
     fn warps_reach_the_heading_and_speed_within_their_limits() {

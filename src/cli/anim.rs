@@ -88,7 +88,7 @@ pub struct TrainArgs {
     #[arg(long)]
     pub db: Option<PathBuf>,
     /// Training episodes (rounded up to whole rounds of 64).
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, default_value_t = 3_000_000)]
     pub episodes: u64,
     /// Seed.
     #[arg(long, default_value_t = 1)]
@@ -99,6 +99,70 @@ pub struct TrainArgs {
     /// Continue training the policy in `--out` instead of starting afresh.
     #[arg(long)]
     pub resume: bool,
+}
+
+/// The lines of `db info` on the moves for tight places, measured from the clips: turns on the
+/// spot (and the angles warping reaches), side steps and steps back, the sharpest turn within
+/// one stride at walking pace, and the stops that come to rest within one step.
+fn tight_places(s: &mut String, db: &Database, w: &crate::anim::warp::WarpLimits) {
+    use std::fmt::Write as _;
+    let of_clip = |c: usize| db.intervals.iter().enumerate().filter(move |(_, iv)| iv.clip == c).map(|(i, _)| i);
+    let degrees = |v: &[f64]| v.iter().map(|d| format!("{d:.0}°")).collect::<Vec<_>>().join(", ");
+    let (mut spot, mut aside, mut back) = (Vec::new(), [Vec::new(), Vec::new()], Vec::new());
+    let (mut stride_turn, mut quick_stops) = ((0.0f64, String::new()), Vec::new());
+    for (c, clip) in db.clips.iter().enumerate() {
+        let ivs: Vec<usize> = of_clip(c).collect();
+        let Some(&first) = ivs.first() else { continue };
+        let turn: f64 = ivs.iter().map(|&i| db.intervals[i].turn()).sum();
+        if ivs.iter().all(|&i| db.kinds[i].in_place) && turn.abs() >= crate::anim::db::SPOT_TURN_RAD && turn > 0.0 {
+            spot.push(turn.to_degrees());
+        }
+        let moved = || match (clip.frames.first(), clip.frames.last()) {
+            (Some(a), Some(b)) => (b.root - a.root).truncate().length(),
+            _ => 0.0,
+        };
+        match db.kinds[first].shuffle {
+            1 => aside[0].push(moved()),
+            -1 => aside[1].push(moved()),
+            2 => back.push(moved()),
+            _ => {}
+        }
+        // Walking pace: two consecutive steps of a clip that both go at 0.6–2 m/s.
+        let walking = |i: usize| db.kinds[i].goes && (0.6..2.0).contains(&db.intervals[i].speed);
+        for p in ivs.windows(2) {
+            let t = (db.intervals[p[0]].turn() + db.intervals[p[1]].turn()).abs();
+            if walking(p[0]) && walking(p[1]) && t > stride_turn.0 + 1e-9 {
+                stride_turn = (t, clip.name.clone());
+            }
+        }
+        // From a plant at walking pace to at rest within one step (then settling in place).
+        if walking(first) || db.kinds[first].goes && db.intervals[first].speed >= 0.6 {
+            let rest = ivs.iter().position(|&i| db.kinds[i].ends_at_rest);
+            let steps = rest.map(|r| ivs[..=r].iter().filter(|&&i| !db.kinds[i].in_place).count());
+            if steps == Some(1) {
+                quick_stops.push(clip.name.clone());
+            }
+        }
+    }
+    let (lo, hi) = (spot.iter().copied().fold(f64::INFINITY, f64::min), spot.iter().copied().fold(0.0, f64::max));
+    let _ = writeln!(
+        s,
+        "tight places: turns on the spot {} each way (warped: {:.0}°–{:.0}°); side steps {} left, {} right; steps back {}",
+        degrees(&spot),
+        lo * w.spot_scale.0,
+        hi * w.spot_scale.1,
+        aside[0].iter().map(|d| format!("{d:.2} m")).collect::<Vec<_>>().join(", "),
+        aside[1].iter().map(|d| format!("{d:.2} m")).collect::<Vec<_>>().join(", "),
+        back.iter().map(|d| format!("{d:.2} m")).collect::<Vec<_>>().join(", "),
+    );
+    let _ = writeln!(
+        s,
+        "  sharpest turn within one stride at walking pace: {:.0}° ({}; warped up to {:.0}°); stops within one step: {}",
+        stride_turn.0.to_degrees(),
+        stride_turn.1,
+        stride_turn.0.to_degrees() * w.turn_scale.1,
+        quick_stops.join(", ")
+    );
 }
 
 /// The import scale of `db build`: `--scale` when given, else the unit the first file's leg
@@ -362,6 +426,7 @@ pub fn describe(db: &Database, dir: Option<&Path>) -> String {
         w.stride.0,
         w.stride.1
     );
+    tight_places(&mut s, db, &w);
     let _ = writeln!(s, "{:<22} {:>7} {:>10} {:>9}", "clip", "frames", "intervals", "speed");
     for (c, clip) in db.clips.iter().enumerate() {
         let ivs: Vec<_> = db.intervals.iter().filter(|i| i.clip == c).collect();

@@ -305,6 +305,21 @@ fn path_keeps(space: &mut dyn Space, pts: &[DVec2], need: f64) -> bool {
     }
 }
 
+/// Both feet of `feet` placed on the ground reference `at` keep [`FOOT_ROOM_M`] from obstacles,
+/// heel and toe.
+fn feet_keep_room(space: &mut dyn Space, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
+    // Room around the root for every point settles it at once.
+    let reach = feet.points.iter().flatten().map(|p| p.truncate().length()).fold(0.0, f64::max);
+    let room = reach + FOOT_ROOM_M;
+    if space.clearance(DVec2::new(at.x, at.y), room + 1e-9) >= room {
+        return true;
+    }
+    feet.points.iter().flatten().all(|p| {
+        let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
+        space.clearance(DVec2::new(w.x, w.y), FOOT_ROOM_M) >= FOOT_ROOM_M
+    })
+}
+
 /// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
 /// shifts over the feet).
 const IN_PLACE_SLACK_M: f64 = 0.02;
@@ -398,16 +413,7 @@ impl LookAhead<'_> {
     /// beside the body's disc into a wall (steps that turn or start place a foot well to the
     /// side, and a cross-fade carries a swinging foot toward where the candidate starts it).
     fn feet_clear(&mut self, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
-        // Room around the root for every point settles it at once.
-        let reach = feet.points.iter().flatten().map(|p| p.truncate().length()).fold(0.0, f64::max);
-        let room = reach + FOOT_ROOM_M;
-        if self.space.clearance(DVec2::new(at.x, at.y), room + 1e-9) >= room {
-            return true;
-        }
-        feet.points.iter().flatten().all(|p| {
-            let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
-            self.space.clearance(DVec2::new(w.x, w.y), FOOT_ROOM_M) >= FOOT_ROOM_M
-        })
+        feet_keep_room(self.space, feet, at)
     }
 
     /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
@@ -436,6 +442,11 @@ impl Chooser for LookAhead<'_> {
         let task = Task { turn_rate: 0.0, speed: self.command.speed };
         let ranker = Ranker { strategy: self.anim.strategy, policy: &self.anim.policy };
         ranker.rank(db, at.ending, errors, task, self.rng, self.order);
+        // Held still for a while: side steps and steps back too, after everything else that
+        // moves.
+        if self.restless {
+            self.order.extend(db.policy_actions[at.ending]..db.candidates[at.ending].len());
+        }
         // Facing away from where it should go, the policy's first choice stands and turns, but
         // this stance cannot reach it (the feet are apart mid-stride): the way there is to stop
         // first, so the candidates that bring the character to rest go before the rest, in the
@@ -661,7 +672,8 @@ impl AnimatedBody {
 
     /// Stride warping within a step: when the commanded speed has changed since the interval
     /// playing began, the rest of it plays with the stride that meets the new speed (within the
-    /// limits), if the path it then takes keeps the clearance the look-ahead keeps.
+    /// limits), if the path it then takes keeps the clearance the look-ahead keeps and the feet
+    /// where it ends keep theirs.
     fn restride(&mut self, space: &mut dyn Space) {
         let anim = Arc::clone(&self.anim);
         let db = &anim.db;
@@ -678,11 +690,12 @@ impl AnimatedBody {
         }
         let warp = Warp { stride, ..now };
         self.path.clear();
-        self.player.remaining_path_with(db, warp, &mut self.path);
+        let end = self.player.remaining_path_with(db, warp, &mut self.path);
         let g = self.player.ground();
         let want = self.radius + anim.clearance_m;
         let need = room_now(space, DVec2::new(g.x, g.y), want).min(want);
-        if path_keeps(space, &self.path, need) {
+        // The step lands where the new stride puts it: its feet keep their room there too.
+        if path_keeps(space, &self.path, need) && feet_keep_room(space, db.feet_at(i, true), end) {
             self.player.rewarp(warp);
         }
     }

@@ -16,7 +16,8 @@
 //! | `{gait}_stop_step_right90` (`_step_left90`) | from a left (right) plant to standing turned 90° away from the planted foot in two steps — a step turn: the body pivots 45° on the ball of the planted foot while the other foot steps out in the new direction, then 45° on the ball of that foot while the first one closes beside it |
 //! | `{gait}_stop_left180` (`_right180`) | from a left (right) plant to standing turned 180° toward the planted foot in two steps: a spin turn of 90° on the planted foot, then 90° more on the ball of the other foot while the first one steps around behind it |
 //! | `slow_walk_to_walk`, `walk_to_slow_walk` (`_r`) | two steps from a left (right) plant of one walk to a left (right) plant of the other |
-//! | `pivot_left45`, `pivot_left90`, `pivot_right45`, `pivot_right90` | turning on the spot from standing to standing: the inside foot steps while the body pivots on the ball of the other foot, then the feet close |
+//! | `pivot_left45`, `pivot_left90`, `pivot_left135` (`_right…`) | turning on the spot from standing to standing: the inside foot steps while the body pivots on the ball of the other foot, then the feet close (with turn warping, 15° to 200°) |
+//! | `side_step_left` (`_right`), `step_back` (`_r`) | from standing to standing 0.3 m to the left (right) or back, facing the same way: the leading foot steps out, the other follows to stand beside it |
 //! | `idle` | standing still, breathing; symmetric |
 //!
 //! Start, stop and pivot clips, turning or not, begin or end exactly in the idle's first pose
@@ -46,6 +47,9 @@ pub const DEFAULT_STEPS: usize = 6;
 /// Steps per straight clip of the default database: one stride, so that its two intervals are
 /// each other's mirror and nothing in the database repeats.
 pub const STRAIGHT_STEPS: usize = 2;
+
+/// How far a side step or a step back moves the body, metres.
+pub const SHUFFLE_M: f64 = 0.3;
 
 /// Depth of the pelvis's breathing bob when standing, metres.
 const BREATH_M: f64 = 0.004;
@@ -616,6 +620,81 @@ fn pivot_motion(turn: f64) -> (Motion, f64) {
     (m.finish(0.0, end), end)
 }
 
+/// A step from standing to standing that moves the body by `offset` (metres, in the frame it
+/// stands in: +x forward, +y left) without turning: the left foot lifts and steps by `offset`
+/// while the weight stays over the right one, then the right foot follows to stand beside it
+/// and the pelvis settles over both. Side steps (`offset` across) and a step back (`offset`
+/// behind) in tight places; the mirror clip leads with the right foot.
+pub fn shuffle_clip(offset: DVec2, name: &str) -> Clip {
+    let (m, end) = shuffle_motion(offset);
+    m.render(0.0, end, FRAME_RATE_HZ, name)
+}
+
+fn shuffle_motion(offset: DVec2) -> (Motion, f64) {
+    let stand = standing_knee_curve();
+    let (lift_l, land_l) = (0.25, on_frame(0.7));
+    let (lift_r, land_r) = (land_l + 0.12, on_frame(land_l + 0.5));
+    let end = on_frame(land_r + 0.3);
+    let home = |side: f64| DVec2::new(0.0, side * HIP_HALF_WIDTH_M);
+    let l0 = Footfall::standing(
+        0,
+        home(1.0),
+        0.0,
+        stand.clone(),
+        0.0,
+        lift_l,
+        Late::Pitch(KeyCurve::open(&[(0.08, 0.0), (lift_l, 0.3)])),
+    );
+    let r0 = Footfall::standing(
+        1,
+        home(-1.0),
+        0.0,
+        stand.clone(),
+        0.0,
+        lift_r,
+        Late::Pitch(KeyCurve::open(&[(land_l, 0.0), (lift_r, 0.3)])),
+    );
+    let flat = |side: usize, at: DVec2, t: f64| {
+        let mut f = Footfall::standing(
+            side,
+            at,
+            0.0,
+            stand.clone(),
+            NEVER_AFTER,
+            NEVER_AFTER,
+            Late::Pitch(KeyCurve::constant(0.0)),
+        );
+        f.t_on = t;
+        f.t_flat = t;
+        f.strike = 0.0;
+        f.swing_height = 0.08;
+        f
+    };
+    let feet = vec![l0, r0, flat(0, home(1.0) + offset, land_l), flat(1, home(-1.0) + offset, land_r)];
+    let dip = STANDING_PELVIS_M - 0.015;
+    let level = KeyCurve::open(&[(0.0, STANDING_PELVIS_M), (0.3, dip), (land_r, dip), (end - 0.05, STANDING_PELVIS_M)]);
+    let windows = vec![Window { t0: NEVER_BEFORE, t1: NEVER_AFTER, height: Height::Level(level) }];
+    let mut m = Motion::new(Path::straight(), Progress::steady(0.0, 0.0), feet, windows, Vec::new());
+    // The pelvis follows the feet: over the right one while the left swings, between both once
+    // the left has landed, then over the left one while the right swings, then between them.
+    let over_r = DVec2::new(0.0, -0.02);
+    let over_l = offset + DVec2::new(0.0, 0.02);
+    let mid = 0.5 * offset;
+    m.drift = track(
+        &[
+            (0.0, DVec2::ZERO, DVec2::ZERO),
+            (lift_l, over_r, DVec2::ZERO),
+            (land_l - 0.05, over_r, DVec2::ZERO),
+            (0.5 * (land_l - 0.05 + lift_r), mid, 1.5 * offset / (lift_r - land_l + 0.05)),
+            (lift_r, over_l, DVec2::ZERO),
+            (land_r - 0.05, over_l, DVec2::ZERO),
+            (end - 0.05, offset, DVec2::ZERO),
+        ],
+        DVec2::ZERO,
+    );
+    (m.finish(0.0, end), end)
+}
+
 /// Standing still for `seconds` (at least one frame) with both feet planted under the hips and a
 /// slight breathing bob of the pelvis (a whole number of breaths of about four seconds, so the
 /// clip repeats seamlessly).
@@ -668,6 +747,8 @@ enum Entry {
     TurningStop(Gait, TurningStop),
     Speed(Gait, Gait),
     Pivot(u32),
+    /// A step by an offset from standing to standing (named, with its mirror's name).
+    Shuffle(&'static str, DVec2, &'static str),
     Idle,
 }
 
@@ -710,6 +791,7 @@ impl Entry {
                 let name = format!("pivot_left{deg}");
                 (pivot_clip(f64::from(*deg).to_radians(), &name), Some(format!("pivot_right{deg}")))
             }
+            Entry::Shuffle(name, offset, mirror) => (shuffle_clip(*offset, name), Some((*mirror).into())),
             Entry::Idle => (idle_clip(4.0), None),
         }
     }
@@ -744,6 +826,9 @@ pub fn default_clips() -> Vec<Clip> {
     entries.push(Entry::Speed(Gait::walk(), Gait::slow_walk()));
     entries.push(Entry::Pivot(45));
     entries.push(Entry::Pivot(90));
+    entries.push(Entry::Pivot(135));
+    entries.push(Entry::Shuffle("side_step_left", DVec2::new(0.0, SHUFFLE_M), "side_step_right"));
+    entries.push(Entry::Shuffle("step_back", DVec2::new(-SHUFFLE_M, 0.0), "step_back_r"));
     entries.push(Entry::Idle);
     let pairs = mirror_pairs(&actor::actor());
     let made: Vec<Vec<Clip>> = entries
@@ -1183,7 +1268,7 @@ pub(crate) mod tests {
             }
         }
         for side in ["left", "right"] {
-            for deg in [45.0, 90.0] {
+            for deg in [45.0, 90.0, 135.0] {
                 let c = find(&clips, &format!("pivot_{side}{deg}"));
                 same_relative_pose(standing, &c.frames[0], 1e-6).unwrap();
                 same_relative_pose(&last(c), standing, 1e-6).map_err(|e| format!("{}: {e}", c.name)).unwrap();
@@ -1199,10 +1284,36 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn side_steps_and_steps_back_move_the_body_without_turning_it() {
+        let clips = default_clips();
+        let standing = &find(&clips, "idle").frames[0];
+        for (name, to) in [
+            ("side_step_left", glam::DVec2::new(0.0, SHUFFLE_M)),
+            ("side_step_right", glam::DVec2::new(0.0, -SHUFFLE_M)),
+            ("step_back", glam::DVec2::new(-SHUFFLE_M, 0.0)),
+            ("step_back_r", glam::DVec2::new(-SHUFFLE_M, 0.0)),
+        ] {
+            let c = find(&clips, name);
+            let last = c.frames.last().unwrap();
+            same_relative_pose(standing, &c.frames[0], 1e-6).unwrap();
+            same_relative_pose(last, standing, 1e-6).map_err(|e| format!("{name}: {e}")).unwrap();
+            let moved = (last.root - c.frames[0].root).truncate();
+            assert!((moved - to).length() < 1e-3, "{name}: moved {moved}");
+            assert!(turned(c).abs() < 1e-6, "{name}: turned {}", turned(c));
+            // Never more than a few centimetres beyond the way between its ends.
+            let dir = to.normalize();
+            for f in &c.frames {
+                let along = (f.root - c.frames[0].root).truncate().dot(dir);
+                assert!((-0.03..=SHUFFLE_M + 0.03).contains(&along), "{name}: {along}");
+            }
+        }
+    }
+
+    #[test]
     fn clips_repeat_seamlessly_and_turn_as_asked() {
         let clips = default_clips();
         for c in &clips {
-            let cyclic = !["start", "stop", "_to_", "pivot"].iter().any(|k| c.name.contains(k));
+            let cyclic = !["start", "stop", "_to_", "pivot", "step"].iter().any(|k| c.name.contains(k));
             if cyclic {
                 // Turning runs repeat to a tenth of a milliradian: their heading schedule is found
                 // numerically.
