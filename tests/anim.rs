@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::sync::Arc;
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
+use strider::anim::bvh::{self, BvhOptions};
 use strider::anim::player::{Choice, Chooser, Player, PlayerParams, SwitchPoint};
 use strider::anim::policy::{Errors, Strategy, evaluate};
 use strider::anim::warp::WarpLimits;
@@ -448,4 +449,42 @@ fn side_steps_and_steps_back_keep_the_feet_planted() {
     }
     shuffles.sort();
     assert_eq!(shuffles, [-1, 1, 2, 2]);
+}
+
+#[test]
+fn a_written_bvh_shows_the_motion_played() {
+    // An episode in a building (turns, doors, stops, turns on the spot) recorded and written as
+    // BVH, read back: every joint of every frame where it was played, legs solved by IK
+    // included (the actor's hips cannot twist, so the IK must not twist them either).
+    let params = StepParameters {
+        animation: Some(AnimationHandle(animation())),
+        record_motion: true,
+        ..StepParameters::default()
+    };
+    let seed = strider::experiment::world_seed(31337, 2);
+    let scenario = strider::maps::kind::generate(strider::maps::kind::WorldKind::Rooms, seed);
+    let world = scenario.world();
+    let e = run_episode(&scenario, &world, 0, &controller(), &params, 2, seed);
+    assert!(e.motion.len() > 600, "{} frames", e.motion.len());
+    let db = &animation().db;
+    let mut joints = db.skeleton.joints().to_vec();
+    joints[0].offset = DVec3::ZERO;
+    let skeleton = strider::anim::Skeleton::new(joints).unwrap();
+    let clip = strider::anim::Clip { name: "e".into(), frame_time: 1.0 / 60.0, frames: e.motion.clone() };
+    let text = bvh::write(&skeleton, &clip, &BvhOptions::default());
+    let read = bvh::parse(&text, "e.bvh", "e", &BvhOptions::default()).unwrap();
+    let (mut played, mut shown) = (Vec::new(), Vec::new());
+    let mut worst = (0.0f64, 0, String::new());
+    for (k, (a, b)) in e.motion.iter().zip(&read.clip.frames).enumerate() {
+        skeleton.globals(a, &mut played);
+        read.skeleton.globals(b, &mut shown);
+        for (j, joint) in skeleton.joints().iter().enumerate() {
+            let d =
+                played[j].0.distance(shown[j].0).max(skeleton.tip(&played, j).distance(read.skeleton.tip(&shown, j)));
+            if d > worst.0 {
+                worst = (d, k, joint.name.clone());
+            }
+        }
+    }
+    assert!(worst.0 < 1e-3, "{} m off at frame {} ({})", worst.0, worst.1, worst.2);
 }
