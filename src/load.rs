@@ -29,7 +29,7 @@ use crate::experiment::{Job, world_seed};
 use crate::files::{self, write_atomic};
 use crate::fuzzy::Engine;
 use crate::maps::kind::{self, WorldKind};
-use crate::maps::{movingai, text};
+use crate::maps::{barn, movingai, text};
 use crate::scenario::Scenario;
 use crate::script::{self, Limits, ScriptLog};
 use crate::sim::{Animation, AnimationHandle, ControllerParams, LayeredController};
@@ -122,6 +122,8 @@ pub enum MapSource {
     Scenario(Arc<Scenario>),
     /// Seeded random worlds of a kind, one per episode.
     Random(WorldKind),
+    /// The worlds of a folder, their tasks one after another (a BARN folder, say).
+    Batch(Vec<Arc<Scenario>>),
 }
 
 /// A loaded value or the error naming the file, with what the script printed (each line
@@ -164,14 +166,85 @@ pub fn load_map(spec: &MapSpec) -> Loaded<MapSource> {
         MapSpec::File { path, scen } => (path, scen),
     };
     let file = path.display().to_string();
-    let scenario = match path.extension().and_then(|e| e.to_str()) {
-        Some("rhai") => read(path).and_then(|src| script::load_scenario(&src, &file, Limits::default(), &log)),
-        Some("txt") | Some("world") => read(path).and_then(|src| text::parse(&src, &file)),
-        Some("map") => load_movingai(path, scen.as_deref()),
-        _ => Err(SourceError::new(&file, 0, 0, "expected a .rhai map, a .txt world, a MovingAI .map, or random:KIND")),
-    };
+    if path.is_dir() {
+        return Loaded::of(load_folder(path, &log).map(MapSource::Batch), &file, &log);
+    }
+    let scenario = load_file(path, scen.as_deref(), &log);
     Loaded::of(scenario.map(|s| MapSource::Scenario(Arc::new(s))), &file, &log)
 }
+
+/// One world file of any kind `strider run` reads.
+fn load_file(path: &Path, scen: Option<&Path>, log: &ScriptLog) -> Result<Scenario, SourceError> {
+    let file = path.display().to_string();
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("rhai") => read(path).and_then(|src| script::load_scenario(&src, &file, Limits::default(), log)),
+        Some("world") => read(path).and_then(|src| {
+            if src.trim_start().starts_with('<') { load_barn(path, &src, log) } else { text::parse(&src, &file) }
+        }),
+        Some("txt") => read(path).and_then(|src| text::parse(&src, &file)),
+        Some("map") => load_movingai(path, scen),
+        _ => Err(SourceError::new(
+            &file,
+            0,
+            0,
+            "expected a .rhai map, a .txt world, a BARN .world, a MovingAI .map, a folder of worlds, or random:KIND",
+        )),
+    }
+}
+
+/// A BARN challenge world (Gazebo SDF) and its reference path `path_N.npy`, looked for beside
+/// it and in `path_files/` beside it (the challenge's own layout); without one the world has no
+/// BARN score, which the log says.
+fn load_barn(path: &Path, text: &str, log: &ScriptLog) -> Result<Scenario, SourceError> {
+    let file = path.display().to_string();
+    let name = path.file_stem().map_or_else(|| "world".to_string(), |s| s.to_string_lossy().into_owned());
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let number = name.rsplit('_').next().filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+    let found = number.and_then(|n| {
+        let want = format!("path_{n}.npy");
+        [dir.join(&want), dir.join("path_files").join(&want)].into_iter().find(|p| p.is_file())
+    });
+    let cells = match &found {
+        Some(p) => {
+            let bytes = files::read_bytes(p)?;
+            Some(barn::parse_path(&bytes, &p.display().to_string())?)
+        }
+        None => {
+            log.push("no path_N.npy beside it or in path_files/: no BARN score".to_string());
+            None
+        }
+    };
+    barn::parse_world(text, &file, &name, cells.as_deref())
+}
+
+/// Every world of a folder (`.world`, `.txt`, `.rhai`; not MovingAI maps, which need their
+/// scenario files), in name order with numbers compared as numbers (`world_2` before
+/// `world_10`).
+fn load_folder(dir: &Path, log: &ScriptLog) -> Result<Vec<Arc<Scenario>>, SourceError> {
+    let file = dir.display().to_string();
+    let entries = std::fs::read_dir(dir).map_err(|e| SourceError::new(&file, 0, 0, format!("cannot read: {e}")))?;
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && matches!(p.extension().and_then(|e| e.to_str()), Some("world" | "txt" | "rhai")))
+        .collect();
+    let key = |p: &PathBuf| {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let digits: String = name.chars().filter(char::is_ascii_digit).collect();
+        let stem: String = name.chars().filter(|c| !c.is_ascii_digit()).collect();
+        (stem, digits.len(), digits, name)
+    };
+    paths.sort_by_key(key);
+    if paths.is_empty() {
+        return Err(SourceError::new(&file, 0, 0, "a folder of worlds needs .world, .txt or .rhai files; it has none"));
+    }
+    if paths.len() > MAX_FOLDER_WORLDS {
+        return Err(SourceError::new(&file, 0, 0, format!("{} worlds: at most {MAX_FOLDER_WORLDS}", paths.len())));
+    }
+    paths.iter().map(|p| load_file(p, None, log).map(Arc::new)).collect()
+}
+
+/// Most worlds a folder may hold.
+const MAX_FOLDER_WORLDS: usize = 100_000;
 
 fn load_movingai(path: &Path, scen: Option<&Path>) -> Result<Scenario, SourceError> {
     let file = path.display().to_string();
@@ -228,6 +301,7 @@ pub fn episode_count(source: &MapSource, episodes: Option<usize>) -> usize {
     match source {
         MapSource::Scenario(s) => episodes.unwrap_or(s.tasks.len()),
         MapSource::Random(_) => episodes.unwrap_or(1),
+        MapSource::Batch(b) => episodes.unwrap_or(b.iter().map(|s| s.tasks.len()).sum()),
     }
 }
 
@@ -238,6 +312,17 @@ pub fn job(source: &MapSource, i: usize, seed: u64) -> Job {
     match source {
         MapSource::Scenario(s) => Job { scenario: s.clone(), task: i % s.tasks.len(), seed: ws },
         MapSource::Random(k) => Job { scenario: Arc::new(kind::generate(*k, ws)), task: 0, seed: ws },
+        MapSource::Batch(b) => {
+            // The batch's tasks in order, round again past the last.
+            let total: usize = b.iter().map(|s| s.tasks.len()).sum::<usize>().max(1);
+            let mut k = i % total;
+            let mut at = 0;
+            while at + 1 < b.len() && k >= b[at].tasks.len() {
+                k -= b[at].tasks.len();
+                at += 1;
+            }
+            Job { scenario: b[at].clone(), task: k, seed: ws }
+        }
     }
 }
 

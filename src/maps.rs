@@ -5,6 +5,7 @@
 //!
 //! - [`text`]: the plain text world format (`start`, `goal`, `cyl`, `box`, `convex`, `poly`, …),
 //!   read and written losslessly; also reads the BARN challenge worlds and the Menge U-trap.
+//! - [`barn`]: the BARN challenge's own files, a Gazebo `.world` and its `path_N.npy`.
 //! - [`movingai`]: MovingAI grid benchmarks (`.map` + `.scen`); blocked cells are merged into a
 //!   few axis-aligned boxes and the map is closed by boundary walls.
 //! - [`generate`]: seeded random worlds at the three densities of seed 000 Fig 2 (sparse,
@@ -22,6 +23,7 @@
 //! panic. Everything is deterministic: no clock, no hash-order dependence, and randomness only
 //! from [`crate::rng`].
 
+pub mod barn;
 pub mod building;
 mod cells;
 pub mod generate;

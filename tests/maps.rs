@@ -342,3 +342,72 @@ fn density_names() {
     assert_eq!("semi".parse::<Density>(), Ok(Density::Semi));
     assert!("dense".parse::<Density>().unwrap_err().to_string().contains("dense"));
 }
+
+/// A BARN world file of the challenge's own format with `cylinders` (x, y), and its path file.
+fn barn_files(dir: &std::path::Path, n: usize, cylinders: &[(f64, f64)], path_in_subfolder: bool) {
+    let models: String = cylinders
+        .iter()
+        .enumerate()
+        .map(|(i, (x, y))| {
+            format!(
+                "<model name='unit_cylinder_{i}'><pose frame=''>{x} {y} 0 0 0 0</pose><link name='link'><collision \
+                 name='collision'><geometry><cylinder><radius>0.075</radius><length>1</length></cylinder></geometry>\
+                 </collision></link></model>\n"
+            )
+        })
+        .collect();
+    let world = format!("<sdf version='1.6'><world name='default'>\n{models}<state>{models}</state></world></sdf>\n");
+    std::fs::write(dir.join(format!("world_{n}.world")), world).unwrap();
+    // Two cells straight up the middle: (15, 0) and (15, 1).
+    let header = "{'descr': '<i8', 'fortran_order': False, 'shape': (2, 2), }";
+    let pad = 64 - (10 + header.len() + 1) % 64;
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    npy.extend(((header.len() + pad + 1) as u16).to_le_bytes());
+    npy.extend(header.bytes());
+    npy.extend(std::iter::repeat_n(b' ', pad));
+    npy.push(b'\n');
+    for v in [15i64, 0, 15, 1] {
+        npy.extend(v.to_le_bytes());
+    }
+    let at = if path_in_subfolder { dir.join("path_files") } else { dir.to_path_buf() };
+    std::fs::create_dir_all(&at).unwrap();
+    std::fs::write(at.join(format!("path_{n}.npy")), npy).unwrap();
+}
+
+#[test]
+fn barn_worlds_and_folders_of_them_run_as_batches() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("barn_folder");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // A wall of cylinders with a gap, in world 10, and an open world 2 (its path in path_files/).
+    let wall: Vec<(f64, f64)> =
+        (0..30).map(|i| (-4.5 + 0.15 * i as f64, 8.0)).filter(|p| (p.0 + 2.25).abs() > 0.6).collect();
+    barn_files(&dir, 10, &wall, false);
+    barn_files(&dir, 2, &[(-0.3, 6.0)], true);
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+        .args(["run", dir.to_str().unwrap(), "--body", "disc", "--format", "json"])
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let episodes = json["episodes"].as_array().unwrap();
+    assert_eq!(episodes.len(), 2);
+    // world_2 before world_10; both reached with a BARN score; the reference runs start →
+    // (−2.325, 5.075) → (−2.325, 5.225) → goal, so OT is known and the score is at most 0.5.
+    for e in episodes {
+        assert_eq!(e["reached"], true, "{e}");
+        assert_eq!(e["collisions"], 0, "{e}");
+        let score = e["barn_score"].as_f64().unwrap();
+        assert!(score > 0.0 && score <= 0.5, "{e}");
+    }
+    assert!(json["summary"]["barn_score"].as_f64().unwrap() > 0.0);
+    // Without its path file a world still runs, with no score, and says why.
+    std::fs::remove_file(dir.join("path_10.npy")).unwrap();
+    let one = std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+        .args(["run", dir.join("world_10.world").to_str().unwrap(), "--body", "disc", "--format", "json"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&one.stderr).contains("no path_N.npy"), "{}", String::from_utf8_lossy(&one.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&one.stdout).unwrap();
+    assert!(json["episodes"][0]["barn_score"].is_null(), "{}", json["episodes"][0]);
+}

@@ -181,6 +181,7 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
         match load::load_map(&MapSpec::file(dir.join(path))).logged() {
             Ok(MapSource::Scenario(s)) => Ok(ScenarioHandle(s)),
             Ok(MapSource::Random(_)) => Err(format!("'{path}' is a generator; use random_world").into()),
+            Ok(MapSource::Batch(_)) => Err(format!("'{path}' is a folder of worlds; load one of them").into()),
             Err(e) => Err(e.to_string().into()),
         }
     });
