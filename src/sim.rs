@@ -264,6 +264,16 @@ pub struct Simulation {
 impl Simulation {
     /// An empty simulation of `world`.
     pub fn new(world: World, params: StepParameters) -> Simulation {
+        // The character walks round what it cannot duck under (standing height without an upper
+        // body that ducks).
+        let world = match &params.animation {
+            Some(a) => {
+                let clear = crate::upper::duck_height_of(&a.0.db.skeleton)
+                    .map_or(crate::world::obstacle::BODY_TOP_M, |d| d + crate::upper::DUCK_ROOM_M);
+                world.walled_below(clear)
+            }
+            None => world,
+        };
         Simulation {
             world,
             agents: Vec::new(),

@@ -536,13 +536,21 @@ impl UpperPlanner {
 /// The lowest the top of the built-in actor's body can be brought by bending the waist fully,
 /// standing, metres (the duck height).
 pub fn duck_height_m() -> f64 {
-    let s = crate::anim::actor::actor();
-    let Some(body) = UpperBody::of(&s) else { return f64::NAN };
+    duck_height_of(&crate::anim::actor::actor()).unwrap_or(f64::NAN)
+}
+
+/// [`duck_height_m`] of a skeleton the upper-body planner knows (`None` for any other).
+pub fn duck_height_of(s: &crate::anim::Skeleton) -> Option<f64> {
+    let body = UpperBody::of(s)?;
     let bent = UpperConfig { waist: [WAIST_BEND_MAX_DEG.to_radians(), 0.0], ..Default::default() };
     let mut caps = Vec::new();
     body.place(&body.frame(&s.bind_pose()), &bent, Parts::Trunk, &mut caps);
-    crate::anim::body::top(&caps)
+    Some(crate::anim::body::top(&caps))
 }
+
+/// Room a ducking body keeps under an overhead obstacle, metres: an obstacle whose underside
+/// is lower than the duck height and this is a wall for the character's navigation.
+pub const DUCK_ROOM_M: f64 = 0.05;
 
 #[cfg(test)]
 mod tests {

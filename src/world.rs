@@ -31,6 +31,10 @@ pub struct Part {
     pub shape: Shape,
 }
 
+/// An overhead obstacle with a corner (or its edge, for a round one) this close to a
+/// navigation wall is attached to it ([`World::walled_below`]), metres.
+pub const ATTACHED_M: f64 = 0.05;
+
 /// Obstacles, their index and the terrain.
 #[derive(Debug, Clone)]
 pub struct World {
@@ -74,6 +78,36 @@ impl World {
     /// the legs' way that does not stand on the ground as tall as the body.
     pub fn upper_body_matters(&self) -> bool {
         !self.overhead.is_empty() || self.obstacles.iter().any(|o| o.z_min > 0.0 || o.z_max < obstacle::BODY_TOP_M)
+    }
+
+    /// The world as navigated by a body that cannot pass under anything lower than
+    /// `clear_under_m`: overhead obstacles standing free whose underside is lower (a bar, a
+    /// lamp) become walls of the 2-D navigation, walked round; those attached to a wall
+    /// ([`ATTACHED_M`]: shelves, ledges) stay the upper body's, which passes beside them.
+    pub fn walled_below(self, clear_under_m: f64) -> World {
+        let mut scratch = Vec::new();
+        let mut attached = |o: &Obstacle| match &o.hull {
+            Shape::Polygon(p) => p.vertices().iter().any(|&v| self.clearance(v, ATTACHED_M, &mut scratch) < ATTACHED_M),
+            Shape::Circle { center, radius } => {
+                let reach = radius + ATTACHED_M;
+                self.clearance(*center, reach, &mut scratch) < reach
+            }
+        };
+        let walls: Vec<bool> = self.overhead.iter().map(|o| o.z_min < clear_under_m && !attached(o)).collect();
+        if !walls.contains(&true) {
+            return self;
+        }
+        let (mut low, mut high) = (Vec::new(), Vec::new());
+        for (o, wall) in self.overhead.into_iter().zip(walls) {
+            if wall { low.push(o) } else { high.push(o) }
+        }
+        let mut obstacles = self.obstacles;
+        obstacles.extend(low);
+        let mut world = World::new(obstacles);
+        world.terrain = self.terrain;
+        world.footsteps = self.footsteps;
+        world.overhead = high;
+        world
     }
 
     /// Every obstacle the body can touch: the navigation's and the overhead ones.
@@ -204,6 +238,27 @@ mod tests {
             .unwrap(),
             Obstacle::build(ObstacleShape::Cylinder { center: DVec2::new(0.0, 5.0), radius: 1.0 }, 0.0, 1.0).unwrap(),
         ])
+    }
+
+    #[test]
+    fn free_overhead_obstacles_below_the_clear_height_become_walls() {
+        let overhead = |center: DVec2, z: f64| {
+            let shape = ObstacleShape::Box { center, width: 1.0, height: 0.4, yaw: 0.0 };
+            Obstacle::build(shape, z, z + 0.1).unwrap()
+        };
+        let mut w = world();
+        // A shelf on the box's side (attached), a free bar as low, a free bar higher up.
+        w.overhead = vec![
+            overhead(DVec2::new(5.0, 1.2), 1.1),
+            overhead(DVec2::new(0.0, 0.0), 1.1),
+            overhead(DVec2::new(0.0, -3.0), 1.5),
+        ];
+        let w = w.walled_below(1.36);
+        assert_eq!(w.obstacles().len(), 3);
+        assert_eq!(w.obstacles()[2].z_min, 1.1);
+        assert!(w.clearance(DVec2::ZERO, 1.0, &mut Vec::new()) == 0.0, "the free low bar is a wall now");
+        let kept: Vec<f64> = w.overhead.iter().map(|o| o.hull.aabb().center().y).collect();
+        assert_eq!(kept, [1.2, -3.0]);
     }
 
     #[test]

@@ -132,6 +132,15 @@ fn generate(kind: &str, k: u64) -> Scene {
             let solids = vec![Solid::Box { c: DVec2::new(x, y), w: 0.1, h: 4.0, z: (z, z + 0.1) }];
             Scene { name, solids, goal: DVec2::new(8.0, 0.0) }
         }
+        // A bar 1.05–1.25 m up in the open: too high to step over, too low to duck under (the
+        // actor ducks to about 1.31 m), so it is walked round.
+        "mid_bar" => {
+            let z = uniform(&mut rng, 1.05, 1.25);
+            let x = uniform(&mut rng, 3.0, 5.0);
+            let y = uniform(&mut rng, -1.0, 0.0);
+            let solids = vec![Solid::Box { c: DVec2::new(x, y), w: 0.1, h: 4.0, z: (z, z + 0.1) }];
+            Scene { name, solids, goal: DVec2::new(8.0, 0.0) }
+        }
         // A table beside the way with lamps hanging over its edge at arm height.
         "table" => {
             let edge = uniform(&mut rng, 0.5, 0.6);
@@ -203,7 +212,7 @@ fn no_bone_of_the_exported_motion_enters_an_obstacle() {
     let mut twisted = 0.0f64;
     // Scenes of each kind: 3, or `STRIDER_UPPER_SCENES` for a longer run.
     let per_kind: u64 = std::env::var("STRIDER_UPPER_SCENES").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
-    for kind in ["bar", "shelves", "low_bar", "table", "kerbs"] {
+    for kind in ["bar", "shelves", "low_bar", "mid_bar", "table", "kerbs"] {
         for k in 0..per_kind {
             let scene = generate(kind, k);
             let map = out.join(format!("{}.txt", scene.name));
