@@ -265,12 +265,13 @@ impl Simulation {
     /// An empty simulation of `world`.
     pub fn new(world: World, params: StepParameters) -> Simulation {
         // The character walks round what it cannot duck under (standing height without an upper
-        // body that ducks).
+        // body that ducks) and holes it cannot step across.
         let world = match &params.animation {
             Some(a) => {
                 let clear = crate::upper::duck_height_of(&a.0.db.skeleton)
                     .map_or(crate::world::obstacle::BODY_TOP_M, |d| d + crate::upper::DUCK_ROOM_M);
-                world.walled_below(clear)
+                let step = world.footsteps.step_max_m;
+                world.walled_below(clear).walled_holes(step)
             }
             None => world,
         };

@@ -31,6 +31,23 @@ pub struct Part {
     pub shape: Shape,
 }
 
+/// The width of a convex shape in its narrowest direction, metres.
+fn narrowest_width(shape: &Shape) -> f64 {
+    match shape {
+        Shape::Circle { radius, .. } => 2.0 * radius,
+        Shape::Polygon(p) => {
+            let v = p.vertices();
+            (0..v.len())
+                .map(|i| {
+                    let (a, b) = (v[i], v[(i + 1) % v.len()]);
+                    let n = (b - a).perp().normalize_or_zero();
+                    v.iter().map(|&q| (q - a).dot(n).abs()).fold(0.0, f64::max)
+                })
+                .fold(f64::INFINITY, f64::min)
+        }
+    }
+}
+
 /// An overhead obstacle with a corner (or its edge, for a round one) this close to a
 /// navigation wall is attached to it ([`World::walled_below`]), metres.
 pub const ATTACHED_M: f64 = 0.05;
@@ -107,6 +124,49 @@ impl World {
         world.terrain = self.terrain;
         world.footsteps = self.footsteps;
         world.overhead = high;
+        world
+    }
+
+    /// The world as navigated by a walker whose longest step is `step_m`: every convex part of a
+    /// hole in the terrain wider than that in every direction (a pond) becomes a wall of the 2-D
+    /// navigation, walked round; holes a step can cross, and holes with ground laid over them
+    /// later (stepping stones), stay terrain for the footstep planner.
+    pub fn walled_holes(self, step_m: f64) -> World {
+        let features = self.terrain.features();
+        let mut ponds = Vec::new();
+        for (k, f) in features.iter().enumerate() {
+            if f.kind != terrain::FeatureKind::Hole {
+                continue;
+            }
+            let Ok(hole) = Obstacle::build(f.shape.clone(), obstacle::DEFAULT_Z.0, obstacle::DEFAULT_Z.1) else {
+                continue;
+            };
+            let covered = |part: &Shape| {
+                let b = part.aabb();
+                features[k + 1..].iter().any(|g| {
+                    g.kind != terrain::FeatureKind::Hole
+                        && Obstacle::build(g.shape.clone(), 0.0, 1.0).is_ok_and(|o| o.hull.aabb().intersects(&b))
+                })
+            };
+            for part in hole.parts.iter().filter(|p| narrowest_width(p) > step_m && !covered(p)) {
+                let shape = match part {
+                    Shape::Circle { center, radius } => ObstacleShape::Cylinder { center: *center, radius: *radius },
+                    Shape::Polygon(p) => ObstacleShape::Convex { points: p.vertices().to_vec() },
+                };
+                if let Ok(o) = Obstacle::build(shape, obstacle::DEFAULT_Z.0, obstacle::DEFAULT_Z.1) {
+                    ponds.push(o);
+                }
+            }
+        }
+        if ponds.is_empty() {
+            return self;
+        }
+        let mut obstacles = self.obstacles;
+        obstacles.extend(ponds);
+        let mut world = World::new(obstacles);
+        world.terrain = self.terrain;
+        world.footsteps = self.footsteps;
+        world.overhead = self.overhead;
         world
     }
 
@@ -259,6 +319,44 @@ mod tests {
         assert!(w.clearance(DVec2::ZERO, 1.0, &mut Vec::new()) == 0.0, "the free low bar is a wall now");
         let kept: Vec<f64> = w.overhead.iter().map(|o| o.hull.aabb().center().y).collect();
         assert_eq!(kept, [1.2, -3.0]);
+    }
+
+    #[test]
+    fn ponds_too_wide_to_step_across_become_walls() {
+        use terrain::{FeatureKind, TerrainFeature};
+        let hole = |shape| TerrainFeature::new(shape, FeatureKind::Hole).unwrap();
+        let bx = |x: f64, w: f64| ObstacleShape::Box { center: DVec2::new(x, -10.0), width: w, height: 4.0, yaw: 0.0 };
+        let mut w = world();
+        w.terrain = Terrain::Uneven(vec![
+            hole(ObstacleShape::Cylinder { center: DVec2::new(-10.0, 0.0), radius: 1.2 }),
+            hole(bx(-20.0, 0.6)),
+            hole(bx(-30.0, 3.0)),
+            TerrainFeature::new(
+                ObstacleShape::Cylinder { center: DVec2::new(-30.0, -10.0), radius: 0.2 },
+                FeatureKind::Platform { z_m: 0.0 },
+            )
+            .unwrap(),
+        ]);
+        // The pond is walled; the narrow ditch and the stream with a stone laid on it are not.
+        let w = w.walled_holes(0.9);
+        assert_eq!(w.obstacles().len(), 3);
+        let mut scratch = Vec::new();
+        assert_eq!(w.clearance(DVec2::new(-10.0, 0.0), 1.0, &mut scratch), 0.0);
+        assert!(w.clearance(DVec2::new(-20.0, -10.0), 1.0, &mut scratch) > 0.0);
+        assert!(w.clearance(DVec2::new(-30.0, -10.0), 1.0, &mut scratch) > 0.0);
+        assert!(
+            (narrowest_width(&Shape::Polygon(
+                crate::geom::ConvexPolygon::new(&[
+                    DVec2::ZERO,
+                    DVec2::new(3.0, 0.0),
+                    DVec2::new(3.0, 1.0),
+                    DVec2::new(0.0, 1.0)
+                ])
+                .unwrap()
+            )) - 1.0)
+                .abs()
+                < 1e-12
+        );
     }
 
     #[test]
