@@ -29,7 +29,8 @@ pub struct EpisodeRecord {
     pub seed: u64,
     /// Goal reached within the time limit.
     pub reached: bool,
-    /// Steps that ended overlapping an obstacle or agent.
+    /// Steps that ended overlapping an obstacle or agent, and times a bone of the upper body
+    /// went into an obstacle ([`EpisodeRecord::upper_body_collisions`]).
     pub collisions: u32,
     /// Simulated time until the goal or the time limit, seconds.
     pub time_s: f64,
@@ -87,6 +88,9 @@ pub struct EpisodeRecord {
     /// body's capsules from them over the frames played, metres (absent when nothing came
     /// within a metre).
     pub upper_body_min_clearance_m: Option<f64>,
+    /// Animated body: times a bone of its upper body (the axis of one of the planner's
+    /// capsules) went into an obstacle; counted in `collisions` too.
+    pub upper_body_collisions: Option<u32>,
     /// Animated body: deepest forward bend of the waist the upper-body planner added, degrees.
     pub max_waist_bend_deg: Option<f64>,
     /// Animated body: largest waist twist the upper-body planner added, degrees.
@@ -127,7 +131,7 @@ impl From<Option<u64>> for Field<'_> {
 
 impl EpisodeRecord {
     /// Every field, named, in the order output formats list them.
-    pub fn fields(&self) -> [(&'static str, Field<'_>); 34] {
+    pub fn fields(&self) -> [(&'static str, Field<'_>); 35] {
         use Field::{Count, Flag, Number, Text};
         [
             ("episode", Count(self.episode as u64)),
@@ -160,6 +164,7 @@ impl EpisodeRecord {
             ("footsteps_planned", self.footsteps_planned.into()),
             ("footstep_planning_ms_p99", self.footstep_planning_ms_p99.into()),
             ("upper_body_min_clearance_m", self.upper_body_min_clearance_m.into()),
+            ("upper_body_collisions", self.upper_body_collisions.map(u64::from).into()),
             ("max_waist_bend_deg", self.max_waist_bend_deg.into()),
             ("max_waist_twist_deg", self.max_waist_twist_deg.into()),
             ("upper_body_refused_steps", self.upper_body_refused_steps.into()),
@@ -297,7 +302,7 @@ pub fn run_episode_with(
         task: task_index,
         seed,
         reached,
-        collisions: m.collisions,
+        collisions: m.collisions + upper.map_or(0, |u| u.collisions),
         time_s: m.time_s,
         path_length_m: m.path_length_m,
         optimal_length_m: optimal,
@@ -322,6 +327,7 @@ pub fn run_episode_with(
         footsteps_planned: footing.map(|f| f.plans()),
         footstep_planning_ms_p99: footing.and_then(|f| p99(f.planning_times_s())).map(|s| s * 1e3),
         upper_body_min_clearance_m: upper.map(|u| u.min_clearance_m).filter(|d| d.is_finite()),
+        upper_body_collisions: animated.map(|_| upper.map_or(0, |u| u.collisions)),
         max_waist_bend_deg: animated.map(|_| upper.map_or(0.0, |u| u.max_bend_rad.to_degrees())),
         max_waist_twist_deg: animated.map(|_| upper.map_or(0.0, |u| u.max_twist_rad.to_degrees())),
         upper_body_refused_steps: animated.map(|_| upper.map_or(0, |u| u.refused_steps)),

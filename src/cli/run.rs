@@ -350,6 +350,7 @@ mod tests {
             footsteps_planned: n(12),
             footstep_planning_ms_p99: a(0.2),
             upper_body_min_clearance_m: a(0.05),
+            upper_body_collisions: animated.then_some(0),
             max_waist_bend_deg: a(60.0),
             max_waist_twist_deg: a(80.0),
             upper_body_refused_steps: n(0),

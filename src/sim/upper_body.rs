@@ -33,6 +33,11 @@ pub struct UpperFigures {
     pub max_twist_rad: f64,
     /// Switch points at which the upper body refused a step the legs could take.
     pub refused_steps: u64,
+    /// Times a bone of the upper body went into an obstacle (frames where one is inside after a
+    /// frame where none was): its collisions.
+    pub collisions: u32,
+    /// Whether a bone is inside an obstacle in the last frame measured.
+    pub inside: bool,
     /// Plans made.
     pub plans: u64,
     /// Frames played.
@@ -48,6 +53,8 @@ impl Default for UpperFigures {
             max_bend_rad: 0.0,
             max_twist_rad: 0.0,
             refused_steps: 0,
+            collisions: 0,
+            inside: false,
             plans: 0,
             frames: 0,
             planning_s: None,
@@ -182,6 +189,17 @@ impl UpperBodyState {
         if d < 1.0 {
             f.min_clearance_m = f.min_clearance_m.min(d);
         }
+        // A capsule in an obstacle: is a bone (the capsule's axis) in it too?
+        let inside = d < 0.0 && {
+            for (_, c) in &mut self.caps {
+                c.radius = 0.0;
+            }
+            self.solids.clearance_near(&self.caps, at, 1.0, &mut self.near) < 0.0
+        };
+        if inside && !f.inside {
+            f.collisions += 1;
+        }
+        f.inside = inside;
     }
 
     fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> Result<Plan, Refusal> {
@@ -198,5 +216,41 @@ impl UpperBodyState {
             *self.figures.planning_s.get_or_insert(0.0) += (c.0.now_s() - t0).max(0.0);
         }
         plan
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::{Obstacle, ObstacleShape};
+
+    #[test]
+    fn a_bone_going_into_an_obstacle_is_a_collision_once_per_entry() {
+        let s = crate::anim::actor::actor();
+        // A shelf through the chest of the actor standing at the origin, and one far away.
+        let slab = |x: f64| {
+            let shape = ObstacleShape::Box { center: DVec2::new(x, 0.0), width: 0.05, height: 1.0, yaw: 0.0 };
+            Obstacle::build(shape, 1.2, 1.3).unwrap()
+        };
+        let near = Arc::new(Solids::new(&[slab(0.0)]));
+        let mut u = UpperBodyState::new(&s, near, None, None, 1.0 / 60.0).unwrap();
+        let pose = s.bind_pose();
+        let c = UpperConfig::default();
+        u.measure(&pose, &c);
+        u.measure(&pose, &c);
+        assert_eq!((u.figures().collisions, u.figures().inside), (1, true));
+        // Out of it (the same body 5 m away), then in again.
+        let mut away = pose.clone();
+        away.root.x -= 5.0;
+        u.measure(&away, &c);
+        assert!(!u.figures().inside);
+        u.measure(&pose, &c);
+        assert_eq!(u.figures().collisions, 2);
+        // Capsules grazing a solid with their skin only are no collision: a slab beside the chest.
+        let beside = Arc::new(Solids::new(&[slab(0.105)]));
+        let mut v = UpperBodyState::new(&s, beside, None, None, 1.0 / 60.0).unwrap();
+        v.measure(&pose, &c);
+        assert!(v.figures().min_clearance_m < 0.0, "{}", v.figures().min_clearance_m);
+        assert_eq!(v.figures().collisions, 0);
     }
 }
