@@ -371,7 +371,7 @@ mod tests {
         let csv = String::from_utf8(csv).unwrap();
         let mut lines = csv.lines();
         let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        assert_eq!(header.len(), 34);
+        assert_eq!(header.len(), 35);
         header.sort();
         let mut keys = keys;
         keys.sort();
