@@ -27,6 +27,7 @@ use crate::builtin::{DEFAULT_MAP, DEFAULT_MAP_FILE, DEFAULT_RULES, DEFAULT_RULES
 use crate::diagnostic::SourceError;
 use crate::experiment::{Job, world_seed};
 use crate::files::{self, write_atomic};
+use crate::footstep::PlannerMode;
 use crate::fuzzy::Engine;
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::{barn, movingai, text};
@@ -363,6 +364,20 @@ pub struct BodyArgs {
     /// How intervals hand over.
     #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
     pub transition: TransitionArg,
+    /// The footstep planner on uneven terrain: `on` adapts every step to the ground, `off`
+    /// takes the database's nominal step, stopping before an invalid one (seed 002 Fig. 8).
+    #[arg(long, value_enum, default_value_t = Switch::On)]
+    pub planner: Switch,
+}
+
+/// On or off.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum Switch {
+    /// On.
+    #[default]
+    On,
+    /// Off.
+    Off,
 }
 
 /// The baseline a `--policy` argument names, if it names one.
@@ -524,7 +539,11 @@ pub fn load_animation(b: &BodyArgs) -> Result<Option<AnimationHandle>, Failure> 
     Ok(Some(AnimationHandle(Arc::new(
         Animation::new(db, policy)
             .with_player(PlayerParams { transition, ..PlayerParams::default() })
-            .with_strategy(strategy),
+            .with_strategy(strategy)
+            .with_footsteps(match b.planner {
+                Switch::On => PlannerMode::Window,
+                Switch::Off => PlannerMode::Nominal,
+            }),
     ))))
 }
 

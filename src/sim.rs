@@ -300,6 +300,7 @@ impl Simulation {
                         self.world.footsteps,
                         at,
                         self.params.stopwatch.clone(),
+                        a.0.footsteps,
                     ));
                 }
                 if self.world.upper_body_matters() {

@@ -428,3 +428,23 @@ mod character {
         assert_eq!(e.record.footstep_planning_ms_p99, None);
     }
 }
+
+#[test]
+fn run_takes_the_footstep_planner_off_as_steps_does() {
+    // Seed 002 Fig. 8 on a map: with the planner the character crosses the ditch; with the
+    // nominal step alone it stops before a step that would land in it, never on it.
+    let run = |planner: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+            .args(["run", "maps/terrain_fig8_trap.rhai", "--planner", planner, "--format", "json"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        json["episodes"][0].clone()
+    };
+    let (on, off) = (run("on"), run("off"));
+    assert_eq!(on["reached"], true, "{on}");
+    assert_eq!(off["reached"], false, "{off}");
+    assert_eq!(off["invalid_footholds"], 0, "{off}");
+    assert_eq!(off["collisions"], 0, "{off}");
+}

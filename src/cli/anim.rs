@@ -334,7 +334,7 @@ pub fn db(command: DbCommand) -> Outcome {
             Ok(())
         }
         DbCommand::Track { dir, policy, transition } => {
-            let body = BodyArgs { body: BodyKind::Animated, db: dir, policy, transition };
+            let body = BodyArgs { body: BodyKind::Animated, db: dir, policy, transition, ..BodyArgs::default() };
             let anim = load_animation(&body)?.ok_or_else(|| anyhow!("no animation"))?;
             let f = crate::sim::measure_tracking(&anim.0, 1.35, 0.8);
             let phases = crate::sim::animated::PHASES;

@@ -22,14 +22,7 @@ use crate::load::{Failure, Outcome};
 use crate::render::png::encode;
 use crate::render::side_view::{SideView, render_side_view};
 
-/// On or off.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Switch {
-    /// On.
-    On,
-    /// Off.
-    Off,
-}
+pub use crate::load::Switch;
 
 /// Output format of `strider steps`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -60,6 +60,8 @@ pub struct Animation {
     pub strategy: Strategy,
     /// Gap the body's disc keeps from obstacles along a candidate's path, metres (0.05).
     pub clearance_m: f64,
+    /// How the footstep planner steps on uneven terrain (planning, or the nominal step alone).
+    pub footsteps: crate::footstep::PlannerMode,
     /// Largest turn rate at speeds `0, 0.05, 0.1, …` m/s, radians per second.
     turn_ability: Vec<f64>,
 }
@@ -118,8 +120,15 @@ impl Animation {
             player: PlayerParams::default(),
             strategy: Strategy::Learnt,
             clearance_m: 0.05,
+            footsteps: crate::footstep::PlannerMode::Window,
             turn_ability,
         }
+    }
+
+    /// The same with the footstep planner in `mode` on uneven terrain.
+    pub fn with_footsteps(mut self, mode: crate::footstep::PlannerMode) -> Animation {
+        self.footsteps = mode;
+        self
     }
 
     /// The same with playback parameters `player`.

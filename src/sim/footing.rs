@@ -123,6 +123,7 @@ pub struct Footing {
     front: WorldFoothold,
     played: Option<PlayedStep>,
     stopped: Option<String>,
+    mode: PlannerMode,
     footholds: Vec<WorldFoothold>,
     invalid: u32,
     planning_s: Vec<f64>,
@@ -132,7 +133,16 @@ pub struct Footing {
 impl Footing {
     /// Feet side by side under the pelvis at `at` on `terrain` (the ankles under the hips, so
     /// the soles' centres a little ahead).
-    pub fn new(terrain: Arc<Terrain>, params: FootstepParams, at: Ground, clock: Option<StopwatchHandle>) -> Footing {
+    /// `mode` says whether the planner adapts the steps ([`PlannerMode::Window`]) or takes the
+    /// nominal one, stopping before one that is invalid ([`PlannerMode::Nominal`], `--planner
+    /// off`).
+    pub fn new(
+        terrain: Arc<Terrain>,
+        params: FootstepParams,
+        at: Ground,
+        clock: Option<StopwatchHandle>,
+        mode: PlannerMode,
+    ) -> Footing {
         let ahead = 0.5 * (params.leg.toe_forward_m - params.leg.heel_back_m);
         let p = DVec2::new(at.x, at.y) + DVec2::from_angle(at.yaw) * ahead;
         let z = terrain.height(p);
@@ -141,6 +151,7 @@ impl Footing {
         Footing {
             terrain,
             params,
+            mode,
             clock,
             rear: left,
             front: right,
@@ -352,8 +363,7 @@ impl Footing {
         let next = self.rear.foot;
         let sole = |f: &WorldFoothold, x_m: f64| Sole { x_m, z_m: f.z_m, pitch_rad: f.pitch_rad };
         let (rear, front) = (sole(&self.rear, rear_m), sole(&self.front, 0.0));
-        let planner =
-            FootstepPlanner::from_planted(&profile, rear, front, next, goal_m, self.params, PlannerMode::Window);
+        let planner = FootstepPlanner::from_planted(&profile, rear, front, next, goal_m, self.params, self.mode);
         let mut planner = match planner {
             Ok(p) => p,
             Err(e) => return Err(e.to_string()),
