@@ -201,6 +201,41 @@ pub enum ParamsError {
 }
 
 impl FootstepParams {
+    /// The parameters [`FootstepParams::set`] takes by name.
+    pub const KEYS: &'static str = "window_steps, intervals, step_min_m, step_max_m, step_init_m, max_step_up_m, \
+                                     max_step_down_m, max_slope_deg or foot_length_m";
+
+    /// Sets the parameter named `key` (one of [`FootstepParams::KEYS`]) to `value`: the one way
+    /// maps of every format give them. Counts must be whole numbers; ranges are checked by
+    /// [`FootstepParams::validate`] once all are set. `foot_length_m` scales the sole keeping
+    /// the heel's share of it.
+    pub fn set(&mut self, key: &str, value: f64) -> Result<(), String> {
+        let count = || {
+            if value.is_finite() && value >= 0.0 && value.fract() == 0.0 && value <= 1e6 {
+                Ok(value as usize)
+            } else {
+                Err(format!("`{key}` must be a whole number ≥ 0, found {value}"))
+            }
+        };
+        match key {
+            "window_steps" => self.window_steps = count()?,
+            "intervals" => self.intervals = count()?,
+            "step_min_m" => self.step_min_m = value,
+            "step_max_m" => self.step_max_m = value,
+            "step_init_m" => self.step_init_m = value,
+            "max_step_up_m" => self.max_step_up_m = value,
+            "max_step_down_m" => self.max_step_down_m = value,
+            "max_slope_deg" => self.max_slope_deg = value,
+            "foot_length_m" => {
+                let heel = self.leg.heel_back_m / self.leg.foot_length_m();
+                self.leg.heel_back_m = value * heel;
+                self.leg.toe_forward_m = value * (1.0 - heel);
+            }
+            other => return Err(format!("unknown parameter `{other}` (expected {})", Self::KEYS)),
+        }
+        Ok(())
+    }
+
     /// Checks every parameter: finite, in range, `0 < s_min < s_max`, `s_init` within them,
     /// `1 ≤ n ≤ 8`, `1 ≤ m ≤ 200`, `(m + 1)^n ≤ 2^20`, steps at least 1 mm apart.
     pub fn validate(&self) -> Result<(), ParamsError> {

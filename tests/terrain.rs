@@ -48,12 +48,25 @@ fn bad_terrain_lines_are_located() {
         ("start 0 0\ngoal 5 0\nslope 0 1 3 0 -1 1\n", (3, 15), "box width must be positive"),
         ("start 0 0\ngoal 5 0\nslope 0 1 3 0 1\n", (3, 16), "needs at least 6"),
         ("start 0 0\ngoal 5 0\nhole box 1 1 0 1\n", (3, 14), "box width"),
+        ("start 0 0\ngoal 5 0\nfootsteps step_max_m\n", (3, 11), "pairs of a parameter"),
+        ("start 0 0\ngoal 5 0\nfootsteps step_max_m 0.8 stride 1\n", (3, 26), "unknown parameter `stride`"),
+        ("start 0 0\ngoal 5 0\nfootsteps intervals 2.5\n", (3, 11), "whole number"),
+        ("start 0 0\ngoal 5 0\nfootsteps step_min_m 2\n", (3, 1), "footsteps:"),
     ];
     for (src, at, needle) in cases {
         let e = text::parse(src, "w.txt").expect_err(needle);
         assert_eq!((e.line, e.col), at, "{needle}: {e}");
         assert!(e.message.contains(needle), "{needle}: {e}");
     }
+}
+
+#[test]
+fn text_worlds_carry_footstep_parameters_and_write_them_back() {
+    let s = text::parse("start 0 0\ngoal 5 0\nfootsteps step_max_m 0.8 window_steps 2\n", "w.txt").unwrap();
+    assert_eq!((s.footsteps.step_max_m, s.footsteps.window_steps), (0.8, 2));
+    let back = text::parse(&text::write(&s), "back.txt").unwrap();
+    assert_eq!((back.footsteps.step_max_m, back.footsteps.window_steps), (0.8, 2));
+    assert_eq!(text::parse("start 0 0\ngoal 5 0\n", "d.txt").unwrap().footsteps, Default::default());
 }
 
 #[test]

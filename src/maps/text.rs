@@ -17,6 +17,7 @@
 //! | `hole SHAPE` | terrain: no ground (no foothold) inside `SHAPE` |
 //! | `slope z0 z1 cx cy w h [yaw_rad]` | terrain: a box whose ground rises linearly from `z0` at its −x side to `z1` at its +x side |
 //! | `stairs z0 z1 n cx cy w h [yaw_rad]` | terrain: a box of `n` equal treads along its x axis, from ground at `z0` before it to `z1` after it (tread `k` at `z0 + (z1 − z0)(k + 1)/(n + 1)`) |
+//! | `footsteps KEY VALUE …` | the footstep planner's parameters of the map's characters (any of [`FootstepParams::KEYS`](crate::footstep::FootstepParams::KEYS)), checked as a whole |
 //! | `ref_path_length L` | BARN extra: reference path length (m), the scenario's [`Reference`] |
 //! | `optimal_time_at_2mps T` | BARN extra: optimal time at 2 m/s (s), kept in [`TextExtras`] |
 //!
@@ -87,6 +88,23 @@ pub fn write(scenario: &Scenario) -> String {
     let _ = writeln!(out, "agent_radius {}", scenario.agent_radius);
     if let Some(r) = scenario.reference {
         let _ = writeln!(out, "ref_path_length {}", r.path_length_m);
+    }
+    let (f, d) = (&scenario.footsteps, crate::footstep::FootstepParams::default());
+    if *f != d {
+        let _ = writeln!(
+            out,
+            "footsteps window_steps {} intervals {} step_min_m {} step_max_m {} step_init_m {} max_step_up_m {} \
+             max_step_down_m {} max_slope_deg {} foot_length_m {}",
+            f.window_steps,
+            f.intervals,
+            f.step_min_m,
+            f.step_max_m,
+            f.step_init_m,
+            f.max_step_up_m,
+            f.max_step_down_m,
+            f.max_slope_deg,
+            f.leg.foot_length_m()
+        );
     }
     for t in &scenario.tasks {
         let s = t.start;
@@ -293,6 +311,21 @@ impl<'f> Parser<'f> {
                 });
                 self.last_goal_line = Some(line);
                 self.time_limit_line = None;
+            }
+            "footsteps" => {
+                // Pairs of a parameter's name and its value.
+                if args.is_empty() || !args.len().is_multiple_of(2) {
+                    return Err(self.err(
+                        line,
+                        args.last().map_or(end_col, |t| t.col),
+                        "`footsteps` needs pairs of a parameter and its value (usage: footsteps step_max_m 0.8 …)",
+                    ));
+                }
+                for pair in args.chunks_exact(2) {
+                    let v = self.number(line, pair[1])?;
+                    self.scenario.footsteps.set(pair[0].text, v).map_err(|m| self.err(line, pair[0].col, m))?;
+                }
+                self.scenario.footsteps.validate().map_err(|e| self.err(line, kw.col, format!("footsteps: {e}")))?;
             }
             "time_limit" => {
                 let v = self.numbers(line, kw, args, end_col, (1, 1), "time_limit seconds")?;

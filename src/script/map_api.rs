@@ -116,35 +116,8 @@ fn footsteps(m: &mut MapHandle, fields: rhai::Map) -> Res<MapHandle> {
     let Some(scenario) = st.scenario.as_mut() else { return Ok(m.clone()) };
     let mut p = scenario.footsteps;
     for (key, value) in &fields {
-        let count = |v: &Dynamic| -> Res<usize> {
-            v.as_int().ok().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| -> Box<EvalAltResult> {
-                format!("footsteps: `{key}` must be a whole number ≥ 0").into()
-            })
-        };
-        match key.as_str() {
-            "window_steps" => p.window_steps = count(value)?,
-            "intervals" => p.intervals = count(value)?,
-            "step_min_m" => p.step_min_m = num(value, key)?,
-            "step_max_m" => p.step_max_m = num(value, key)?,
-            "step_init_m" => p.step_init_m = num(value, key)?,
-            "max_step_up_m" => p.max_step_up_m = num(value, key)?,
-            "max_step_down_m" => p.max_step_down_m = num(value, key)?,
-            "max_slope_deg" => p.max_slope_deg = num(value, key)?,
-            "foot_length_m" => {
-                // The heel keeps its share of the built-in foot (0.05 of 0.24 m).
-                let l = num(value, key)?;
-                let heel = p.leg.heel_back_m / p.leg.foot_length_m();
-                p.leg.heel_back_m = l * heel;
-                p.leg.toe_forward_m = l * (1.0 - heel);
-            }
-            other => {
-                return Err(format!(
-                    "footsteps: unknown parameter `{other}` (expected window_steps, intervals, step_min_m, step_max_m, \
-                     step_init_m, max_step_up_m, max_step_down_m, max_slope_deg or foot_length_m)"
-                )
-                .into());
-            }
-        }
+        let v = if let Ok(i) = value.as_int() { i as f64 } else { num(value, key)? };
+        p.set(key, v).map_err(|e| -> Box<EvalAltResult> { format!("footsteps: {e}").into() })?;
     }
     p.validate().map_err(|e| -> Box<EvalAltResult> { format!("footsteps: {e}").into() })?;
     scenario.footsteps = p;
