@@ -189,6 +189,67 @@ mod character {
         }
     }
 
+    /// The highest ground under the segment `a`–`b` (plan view), sampled every 5 mm.
+    fn ground_under(terrain: &strider::world::Terrain, a: glam::DVec3, b: glam::DVec3) -> (f64, glam::DVec3) {
+        let n = ((a.truncate().distance(b.truncate()) / 0.005).ceil() as usize).max(1);
+        (0..=n)
+            .map(|k| a.lerp(b, k as f64 / n as f64))
+            .map(|p| (p.z - terrain.height(p.truncate()), p))
+            .fold((f64::INFINITY, a), |m, x| if x.0 < m.0 { x } else { m })
+    }
+
+    /// The played soles keep above the ground on maps: in every frame of the recorded motion,
+    /// every point of each sole from heel to toe is above the terrain under it (kerb and stair
+    /// edges included), within a millimetre — shipped terrain scenes and kerbs 0.10–0.20 m.
+    #[test]
+    fn played_soles_stay_above_every_edge_they_pass() {
+        use strider::anim::actor::{HEEL_POINT, LEFT_FOOT, RIGHT_FOOT, TOE_POINT};
+        let (mut p, c) = (params(), controller());
+        p.record_motion = true;
+        let kerbs: Vec<(String, String)> = [0.1, 0.15, 0.2]
+            .iter()
+            .map(|h| {
+                let src = format!(
+                    r#"let m = world("kerb");
+                    m.start(0.0, 0.0, 0.0);
+                    m.goal(7.0, 0.0, 0.5);
+                    m.heights(0.0, {h});
+                    m.box(3.0, 0.0, 0.3, 3.0, 0.0);
+                    m"#
+                );
+                (format!("kerb_{h}"), src)
+            })
+            .collect();
+        let scenes = SCENES.iter().map(|(n, s, _)| (n.to_string(), s.to_string())).chain(kerbs);
+        for (name, src) in scenes {
+            let s = map(&src, &name);
+            let w = s.world();
+            let e = run_episode(&s, &w, 0, &c, &p, 0, 1);
+            assert!(e.record.reached, "{name}");
+            let sk = &p.animation.as_ref().unwrap().0.db.skeleton;
+            let feet = [LEFT_FOOT, RIGHT_FOOT].map(|f| sk.find(f).unwrap());
+            let mut g = Vec::new();
+            let mut worst = (f64::INFINITY, 0, glam::DVec3::ZERO);
+            for (k, pose) in e.motion.iter().enumerate() {
+                sk.globals(pose, &mut g);
+                for &f in &feet {
+                    let (ankle, q) = g[f];
+                    let (d, at) = ground_under(&w.terrain, ankle + q * HEEL_POINT, ankle + q * TOE_POINT);
+                    if d < worst.0 {
+                        worst = (d, k, at);
+                    }
+                }
+            }
+            assert!(
+                worst.0 > -1e-3,
+                "{name}: a sole {:.4} m into the ground at frame {} ({:?})",
+                -worst.0,
+                worst.1,
+                worst.2
+            );
+        }
+    }
+
     #[test]
     fn footholds_land_on_the_stones_and_the_pelvis_follows_the_stairs() {
         let (p, c) = (params(), controller());
