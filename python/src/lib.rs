@@ -53,7 +53,8 @@ pub(crate) fn error<E: Into<Failure>>(py: Python<'_>) -> impl FnOnce(E) -> PyErr
     move |e| input_error(py, e.into())
 }
 
-/// Runs `work` on a thread of its own with the GIL released, checking for Ctrl-C every 20 ms:
+/// Runs `work` on a thread of its own with the GIL released, checking for Ctrl-C at least
+/// every 20 ms:
 /// on an interrupt `stop` is set, `work` is waited for (it should return soon after) and the
 /// `KeyboardInterrupt` is raised.
 pub(crate) fn interruptible<T: Send>(
@@ -69,8 +70,11 @@ pub(crate) fn interruptible<T: Send>(
             out
         });
         let mut interrupt = None;
+        // Short work returns at once; long work is polled every 20 ms at most.
+        let mut nap = Duration::from_micros(50);
         while !done.load(Ordering::Acquire) {
-            py.detach(|| std::thread::sleep(Duration::from_millis(20)));
+            py.detach(|| std::thread::sleep(nap));
+            nap = (nap * 2).min(Duration::from_millis(20));
             if interrupt.is_none()
                 && let Err(e) = py.check_signals()
             {

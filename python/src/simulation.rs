@@ -2,24 +2,25 @@
 //! NumPy arrays and its top-down view as an RGB array. Episode `i` of a simulation is episode
 //! `i` of `strider.run` on the same arguments, step for step.
 
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-
 use glam::DVec2;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::PathBuf;
 
 use strider::cli::run::PreparedRun;
 use strider::render::png::render_png;
 use strider::render::sim_view::scene_of;
 use strider::sim::{self, Body, Command, Outcome};
 
-use crate::{StriderError, error, interruptible, run_args};
+use crate::{StriderError, error, run_args};
 
 /// Most steps one `step` call may take.
 const MAX_STEPS: u64 = 100_000_000;
+
+/// Steps between two checks for Ctrl-C.
+const STEPS_PER_SLICE: u64 = 200;
 
 /// Most pixels along one side of `frame`.
 const MAX_FRAME_SIDE: u32 = 4096;
@@ -112,16 +113,22 @@ impl Simulation {
         if n > MAX_STEPS {
             return Err(StriderError::new_err(format!("n must be at most {MAX_STEPS}, found {n}")));
         }
-        let stop = AtomicBool::new(false);
-        let sim = &mut self.sim;
-        interruptible(py, &stop, || {
-            for _ in 0..n {
-                if sim.all_done() || stop.load(Ordering::Relaxed) {
-                    break;
+        // Steps go in slices with the GIL released, Ctrl-C checked between them.
+        let mut left = n;
+        while left > 0 && !self.sim.all_done() {
+            let slice = left.min(STEPS_PER_SLICE);
+            let sim = &mut self.sim;
+            py.detach(|| {
+                for _ in 0..slice {
+                    if sim.all_done() {
+                        break;
+                    }
+                    sim.step();
                 }
-                sim.step();
-            }
-        })?;
+            });
+            left -= slice;
+            py.check_signals()?;
+        }
         Ok(self.sim.all_done())
     }
 
