@@ -66,7 +66,8 @@ fn merged_csv_shards_print_the_whole_run() {
 fn a_shard_holds_every_nth_episode_numbered_as_in_the_whole_run() {
     let out = strider(&["run", "random:sparse", "--episodes", "5", "--body", "disc", "--shard", "1/2"]);
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let episodes: Vec<u64> = doc["episodes"].as_array().unwrap().iter().map(|e| e["episode"].as_u64().unwrap()).collect();
+    let episodes: Vec<u64> =
+        doc["episodes"].as_array().unwrap().iter().map(|e| e["episode"].as_u64().unwrap()).collect();
     assert_eq!(episodes, [1, 3]);
     let whole = strider(&["run", "random:sparse", "--episodes", "5", "--body", "disc"]);
     let whole: serde_json::Value = serde_json::from_slice(&whole.stdout).unwrap();
