@@ -7,6 +7,7 @@ pub mod anim;
 pub mod db_strip;
 pub mod experiment;
 pub mod fuzzy;
+pub mod merge;
 pub mod render;
 pub mod reproduce;
 pub mod run;
@@ -41,6 +42,8 @@ pub enum Command {
     },
     /// Run navigation episodes headless and print their measurements.
     Run(run::RunArgs),
+    /// Join the outputs of `run --shard I/N` (JSON or CSV) into what the whole run prints.
+    Merge(merge::MergeArgs),
     /// Print a seeded random world in the plain text world format.
     Gen(run::GenArgs),
     /// Write top-down PNG frames of an episode.
@@ -77,6 +80,7 @@ pub fn main() -> ExitCode {
         None => run::default_scenario(),
         Some(Command::Fuzzy { command }) => fuzzy::run(command),
         Some(Command::Run(args)) => run::run(args),
+        Some(Command::Merge(args)) => merge::run(args),
         Some(Command::Gen(args)) => run::gen_world(args),
         Some(Command::Render(args)) => render::render(args),
         Some(Command::Snapshot(args)) => snapshot::run(args),

@@ -8,7 +8,7 @@
 use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::plan;
 use crate::scenario::{BARN_SPEED_MPS, Scenario};
@@ -16,8 +16,11 @@ use crate::sim::{LayeredController, Outcome, Simulation, StepParameters};
 use crate::world::World;
 
 /// The measurements of one episode. [`EpisodeRecord::fields`] lists them in order; JSON and CSV
-/// are both written from that list, so the two formats always carry the same fields.
-#[derive(Debug, Clone, PartialEq)]
+/// are both written from that list, so the two formats always carry the same fields. A record
+/// reads back from its JSON object (`strider merge`): the fields' names are the JSON keys,
+/// missing figures are `None`, and JSON's `null` for an infinite clearance is infinity again.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct EpisodeRecord {
     /// Episode number within the batch.
     pub episode: usize,
@@ -42,6 +45,7 @@ pub struct EpisodeRecord {
     /// `path_length_m / optimal_length_m` for reached episodes.
     pub path_ratio: Option<f64>,
     /// Smallest gap between the agent and any obstacle, metres.
+    #[serde(deserialize_with = "infinite_when_null")]
     pub min_clearance_m: f64,
     /// Simulation steps taken.
     pub steps: u32,
@@ -100,6 +104,12 @@ pub struct EpisodeRecord {
     /// Animated body among such obstacles, when the run lends a stopwatch: upper-body planning
     /// time per frame played, ms.
     pub upper_body_ms_per_frame: Option<f64>,
+}
+
+/// JSON writes a non-finite number as `null`; a clearance is never NaN, so `null` is infinity
+/// (nothing within range).
+fn infinite_when_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// One value of an [`EpisodeRecord`].
@@ -397,6 +407,20 @@ pub fn run_batch_each(
     progress: &(dyn Fn() + Sync),
     each: &(dyn Fn(&Episode) + Sync),
 ) -> Vec<EpisodeRecord> {
+    let episodes: Vec<usize> = (0..count).collect();
+    run_episodes_each(&episodes, job, controller, params, progress, each)
+}
+
+/// [`run_batch_each`] over some episodes of a batch only (a [`Shard`]'s, say), each numbered
+/// as in the whole batch; records come back in the order of `episodes`.
+pub fn run_episodes_each(
+    episodes: &[usize],
+    job: &(dyn Fn(usize) -> Job + Sync),
+    controller: &LayeredController,
+    params: &StepParameters,
+    progress: &(dyn Fn() + Sync),
+    each: &(dyn Fn(&Episode) + Sync),
+) -> Vec<EpisodeRecord> {
     // A scenario with several tasks is usually run once per task: its optimal-path planner is
     // built once, by the first episode that needs it, and shared.
     type Slot = Arc<OnceLock<Option<plan::Planner>>>;
@@ -413,9 +437,9 @@ pub fn run_batch_each(
         list.push((scenario.clone(), slot.clone()));
         Some(slot)
     };
-    (0..count)
-        .into_par_iter()
-        .map(|i| {
+    episodes
+        .par_iter()
+        .map(|&i| {
             let job = job(i);
             let world = job.scenario.world();
             let mut p = params.clone();
@@ -429,6 +453,47 @@ pub fn run_batch_each(
             e.record
         })
         .collect()
+}
+
+/// The `index`-th of `count` interleaved slices of a batch: episodes `index`, `index + count`,
+/// `index + 2·count`, … (`strider run --shard I/N`). Each episode depends only on the run's
+/// seed and its own number, so the shards together make the whole batch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// Which slice, from 0.
+    pub index: usize,
+    /// How many slices.
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole batch as one slice.
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// A slice, checked: `index < count`.
+    pub fn new(index: usize, count: usize) -> Result<Shard, String> {
+        if count == 0 || index >= count {
+            return Err(format!("a shard I/N needs 0 <= I < N, found {index}/{count}"));
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// The episodes of a batch of `total` that fall in this slice, in order.
+    pub fn episodes(self, total: usize) -> Vec<usize> {
+        (self.index..total).step_by(self.count).collect()
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+
+    /// `I/N`, e.g. `0/4` for the first of four slices.
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let parse =
+            |t: &str| t.trim().parse::<usize>().map_err(|_| format!("expected a shard I/N such as 0/4, found '{s}'"));
+        let (i, n) = s.split_once('/').ok_or_else(|| format!("expected a shard I/N such as 0/4, found '{s}'"))?;
+        Shard::new(parse(i)?, parse(n)?)
+    }
 }
 
 /// The 99th percentile of `xs` (nearest rank), `None` when empty.

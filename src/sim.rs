@@ -147,6 +147,15 @@ pub struct Agent {
     walls: Vec<f64>,
 }
 
+impl Agent {
+    /// The agent's last all-around scan: the free distance for its disc along each of
+    /// [`StepParameters::scan_rays`] rays (ray `i` at `2πi/n` from the world's X axis), metres
+    /// (empty before the first step).
+    pub fn scan(&self) -> &[f64] {
+        &self.scan
+    }
+}
+
 /// An agent's body: a kinematic disc or an animated character.
 #[derive(Debug, Clone)]
 pub enum AgentBody {

@@ -901,7 +901,7 @@ impl Policy {
 
 /// A task sampled over the planner's ranges (or, for a share, the database's whole speed
 /// range).
-fn sample_task(db: &Database, p: &LearnParams, rng: &mut ChaCha8Rng) -> Task {
+pub fn sample_task(db: &Database, p: &LearnParams, rng: &mut ChaCha8Rng) -> Task {
     let top = if rng::unit(rng) < p.wide_tasks { db.max_speed().max(p.planner_speed) } else { p.planner_speed };
     let turn_rate =
         if rng::unit(rng) < HEADING_TASKS { 0.0 } else { rng::uniform(rng, -p.planner_turn, p.planner_turn) };

@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::{Clip, Skeleton};
-use crate::experiment::{self, EpisodeRecord, Field};
+use crate::experiment::{self, EpisodeRecord, Field, Shard};
 use crate::files;
 use crate::load::{Failure, Outcome, load_map, load_rules};
 pub use crate::load::{MapSource, MapSpec, episode_count, job};
@@ -58,6 +58,11 @@ pub struct RunArgs {
     /// world position (the pelvis height following the terrain).
     #[arg(long, value_name = "DIR")]
     pub bvh_out: Option<PathBuf>,
+    /// Run only the I-th of N interleaved slices of the episodes (I, I+N, I+2N, …; numbered
+    /// and seeded as in the whole run), for schedulers that split a run: `strider merge`
+    /// joins the slices' outputs into what the whole run prints.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
 }
 
 /// Data formats of `strider run`.
@@ -94,31 +99,79 @@ pub fn check_episodes(n: usize) -> Result<(), Failure> {
     Ok(())
 }
 
+/// A run made ready: its arguments checked, its map, rules and body loaded.
+pub struct PreparedRun {
+    /// Where the episodes' worlds come from.
+    pub source: MapSource,
+    /// The navigation rules.
+    pub controller: LayeredController,
+    /// The agents' parameters (the body, a wall stopwatch for the timing figures).
+    pub params: StepParameters,
+    /// The run's seed.
+    pub seed: u64,
+    /// The episodes to run: the whole run's, or its shard's.
+    pub episodes: Vec<usize>,
+}
+
+impl PreparedRun {
+    /// Checks `args` (counts, flag combinations) and loads what the run needs, script output
+    /// to stderr; nothing runs yet.
+    pub fn new(args: &RunArgs) -> Result<PreparedRun, Failure> {
+        if let Some(n) = args.episodes {
+            check_episodes(n)?;
+        }
+        if let Some(t) = args.threads
+            && !(1..=MAX_THREADS).contains(&t)
+        {
+            return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
+        }
+        if args.bvh_out.is_some() && args.body.body == crate::load::BodyKind::Disc {
+            return Err(anyhow!(
+                "--bvh-out writes the animated character's motion; it cannot be used with --body disc"
+            )
+            .into());
+        }
+        let source = load_map_args(&args.map)?;
+        let controller = load_controller(args.map.rules.as_deref())?;
+        let count = episode_count(&source, args.episodes);
+        check_episodes(count)?;
+        let params = StepParameters {
+            animation: crate::load::load_animation(&args.body)?,
+            stopwatch: Some(wall_stopwatch()),
+            record_motion: args.bvh_out.is_some(),
+            ..StepParameters::default()
+        };
+        let episodes = args.shard.unwrap_or(Shard::WHOLE).episodes(count);
+        Ok(PreparedRun { source, controller, params, seed: args.map.seed, episodes })
+    }
+
+    /// Runs `episodes` (some of [`PreparedRun::episodes`]) in parallel on the current rayon
+    /// pool and returns their records in that order; `progress` and `each` as for
+    /// [`experiment::run_episodes_each`].
+    pub fn run(
+        &self,
+        episodes: &[usize],
+        progress: &(dyn Fn() + Sync),
+        each: &(dyn Fn(&experiment::Episode) + Sync),
+    ) -> Vec<EpisodeRecord> {
+        let make = |i: usize| job(&self.source, i, self.seed);
+        experiment::run_episodes_each(episodes, &make, &self.controller, &self.params, progress, each)
+    }
+}
+
+/// The worker threads of a run: `threads`, or all cores.
+pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| anyhow!("cannot start worker threads: {e}"))
+}
+
 /// `strider run`.
 pub fn run(args: RunArgs) -> Outcome {
-    if let Some(n) = args.episodes {
-        check_episodes(n)?;
-    }
-    if let Some(t) = args.threads
-        && !(1..=MAX_THREADS).contains(&t)
-    {
-        return Err(anyhow!("--threads must be in 1..={MAX_THREADS}, found {t}").into());
-    }
-    if args.bvh_out.is_some() && args.body.body == crate::load::BodyKind::Disc {
-        return Err(
-            anyhow!("--bvh-out writes the animated character's motion; it cannot be used with --body disc").into()
-        );
-    }
-    let source = load_map_args(&args.map)?;
-    let controller = load_controller(args.map.rules.as_deref())?;
-    let count = episode_count(&source, args.episodes);
-    check_episodes(count)?;
-    let params = StepParameters {
-        animation: crate::load::load_animation(&args.body)?,
-        stopwatch: Some(wall_stopwatch()),
-        record_motion: args.bvh_out.is_some(),
-        ..StepParameters::default()
-    };
+    let prepared = PreparedRun::new(&args)?;
+    let count = prepared.episodes.len();
+    let params = &prepared.params;
     // The motion files' directory and skeleton, checked before any episode runs.
     let motion_out = match (&args.bvh_out, &params.animation) {
         (Some(dir), Some(anim)) => {
@@ -156,14 +209,9 @@ pub fn run(args: RunArgs) -> Outcome {
             b.inc(1);
         }
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| anyhow!("cannot start worker threads: {e}"))?;
-    let seed = args.map.seed;
-    let make = |i: usize| job(&source, i, seed);
+    let pool = thread_pool(args.threads)?;
     let clock = std::time::Instant::now();
-    let records = pool.install(|| experiment::run_batch_each(count, &make, &controller, &params, &progress, &each));
+    let records = pool.install(|| prepared.run(&prepared.episodes, &progress, &each));
     let elapsed = clock.elapsed().as_secs_f64();
     if let Some(err) = write_failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         return Err(err.into());
