@@ -24,7 +24,10 @@ def test_ctrl_c_stops_a_long_call(call, tmp_path):
     world.write_text("start 0 0 0\ngoal 10 0\ntime_limit 86400\n")
     code = textwrap.dedent(
         f"""
-        import sys, strider
+        import signal, sys, strider
+        # Python's own Ctrl-C handler, whatever this process inherited (a shell's background
+        # jobs start with SIGINT ignored).
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         world = {str(world)!r}
         print('ready', flush=True)
         try:
