@@ -38,11 +38,17 @@ def test_ctrl_c_stops_a_long_call(call, tmp_path):
         """
     )
     p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert p.stdout.readline().strip() == "ready"
-    time.sleep(1.0)
-    p.send_signal(signal.SIGINT)
-    start = time.monotonic()
-    out, err = p.communicate(timeout=60)
+    try:
+        assert p.stdout.readline().strip() == "ready"
+        time.sleep(1.0)
+        p.send_signal(signal.SIGINT)
+        start = time.monotonic()
+        out, err = p.communicate(timeout=60)
+    finally:
+        # A child that did not stop is not left running.
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
     assert p.returncode == 3, err
     assert "interrupted" in out
     assert time.monotonic() - start < 30
