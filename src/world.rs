@@ -101,7 +101,7 @@ impl World {
     /// `clear_under_m`: overhead obstacles standing free whose underside is lower (a bar, a
     /// lamp) become walls of the 2-D navigation, walked round; those attached to a wall
     /// ([`ATTACHED_M`]: shelves, ledges) stay the upper body's, which passes beside them.
-    pub fn walled_below(self, clear_under_m: f64) -> World {
+    pub fn walled_below(mut self, clear_under_m: f64) -> World {
         let mut scratch = Vec::new();
         let mut attached = |o: &Obstacle| match &o.hull {
             Shape::Polygon(p) => p.vertices().iter().any(|&v| self.clearance(v, ATTACHED_M, &mut scratch) < ATTACHED_M),
@@ -115,24 +115,26 @@ impl World {
             return self;
         }
         let (mut low, mut high) = (Vec::new(), Vec::new());
-        for (o, wall) in self.overhead.into_iter().zip(walls) {
+        for (o, wall) in std::mem::take(&mut self.overhead).into_iter().zip(walls) {
             if wall { low.push(o) } else { high.push(o) }
         }
-        let mut obstacles = self.obstacles;
-        obstacles.extend(low);
-        let mut world = World::new(obstacles);
-        world.terrain = self.terrain;
-        world.footsteps = self.footsteps;
-        world.overhead = high;
-        world
+        self.with_walls(low, high)
     }
 
     /// The world as navigated by a walker whose longest step is `step_m`: every convex part of a
     /// hole in the terrain wider than that in every direction (a pond) becomes a wall of the 2-D
     /// navigation, walked round; holes a step can cross, and holes with ground laid over them
     /// later (stepping stones), stay terrain for the footstep planner.
-    pub fn walled_holes(self, step_m: f64) -> World {
+    pub fn walled_holes(mut self, step_m: f64) -> World {
         let features = self.terrain.features();
+        // The bounding box of every feature that lays ground (not a hole), in painting order.
+        let ground: Vec<Option<crate::geom::Aabb>> = features
+            .iter()
+            .map(|g| {
+                let laid = g.kind != terrain::FeatureKind::Hole;
+                laid.then(|| Obstacle::build(g.shape.clone(), 0.0, 1.0).ok().map(|o| o.hull.aabb())).flatten()
+            })
+            .collect();
         let mut ponds = Vec::new();
         for (k, f) in features.iter().enumerate() {
             if f.kind != terrain::FeatureKind::Hole {
@@ -141,13 +143,7 @@ impl World {
             let Ok(hole) = Obstacle::build(f.shape.clone(), obstacle::DEFAULT_Z.0, obstacle::DEFAULT_Z.1) else {
                 continue;
             };
-            let covered = |part: &Shape| {
-                let b = part.aabb();
-                features[k + 1..].iter().any(|g| {
-                    g.kind != terrain::FeatureKind::Hole
-                        && Obstacle::build(g.shape.clone(), 0.0, 1.0).is_ok_and(|o| o.hull.aabb().intersects(&b))
-                })
-            };
+            let covered = |part: &Shape| ground[k + 1..].iter().flatten().any(|g| g.intersects(&part.aabb()));
             for part in hole.parts.iter().filter(|p| narrowest_width(p) > step_m && !covered(p)) {
                 let shape = match part {
                     Shape::Circle { center, radius } => ObstacleShape::Cylinder { center: *center, radius: *radius },
@@ -161,12 +157,19 @@ impl World {
         if ponds.is_empty() {
             return self;
         }
+        let overhead = std::mem::take(&mut self.overhead);
+        self.with_walls(ponds, overhead)
+    }
+
+    /// The same world with `walls` added to the navigation's obstacles and `overhead` as its
+    /// overhead ones.
+    fn with_walls(self, walls: Vec<Obstacle>, overhead: Vec<Obstacle>) -> World {
         let mut obstacles = self.obstacles;
-        obstacles.extend(ponds);
+        obstacles.extend(walls);
         let mut world = World::new(obstacles);
         world.terrain = self.terrain;
         world.footsteps = self.footsteps;
-        world.overhead = self.overhead;
+        world.overhead = overhead;
         world
     }
 

@@ -25,7 +25,7 @@ use std::fmt::{self, Write as _};
 use glam::{DMat3, DQuat, DVec3};
 
 use super::clip::Clip;
-use super::skeleton::{Channel, Joint, Pose, Skeleton};
+use super::skeleton::{Channel, Joint, Pose, Skeleton, twist};
 use crate::diagnostic::SourceError;
 
 /// Deepest joint hierarchy accepted (a human skeleton is about 10 deep, hands included).
@@ -673,13 +673,6 @@ fn tait_bryan(q: DQuat, i: usize, j: usize, k: usize) -> [f64; 3] {
     } else {
         [(s * at(k, j)).atan2(at(j, j)), beta, 0.0]
     }
-}
-
-/// The angle of the twist of `q` about the unit `axis` (swing–twist decomposition), in [-π, π].
-fn twist(q: DQuat, axis: DVec3) -> f64 {
-    let v = DVec3::new(q.x, q.y, q.z).dot(axis);
-    let (v, w) = if q.w.is_sign_negative() { (-v, -q.w) } else { (v, q.w) };
-    2.0 * v.atan2(w)
 }
 
 #[cfg(test)]

@@ -1112,7 +1112,7 @@ fn hinged_leg_ik(
     let t = if t.length() > 1e-9 { t * (d / t.length()) } else { DVec3::new(0.0, 0.0, -d) };
     // The knee: its angle from the law of cosines, on the side it bends now (forward: the shin
     // swings back for a positive angle).
-    let bend = twist_about(pose.rotations[knee], DVec3::Y);
+    let bend = super::skeleton::twist(pose.rotations[knee], DVec3::Y);
     let c =
         ((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).clamp(-1.0, 1.0).acos() * if bend < 0.0 { -1.0 } else { 1.0 };
     // The ankle in the hip's frame, in its XZ plane; X then Y at the hip take it to the target.
@@ -1122,17 +1122,10 @@ fn hinged_leg_ik(
     let hip_rot = DQuat::from_rotation_y(a) * DQuat::from_rotation_x(b);
     let knee_rot = DQuat::from_rotation_y(c);
     let above = pelvis * hip_rot * knee_rot;
-    let e = twist_about(above.inverse() * foot_rot, DVec3::Y);
+    let e = super::skeleton::twist(above.inverse() * foot_rot, DVec3::Y);
     pose.rotations[hip] = hip_rot;
     pose.rotations[knee] = knee_rot;
     pose.rotations[foot] = DQuat::from_rotation_y(e);
-}
-
-/// The angle of the twist of `q` about the unit `axis` (swing–twist decomposition), in [-π, π].
-fn twist_about(q: DQuat, axis: DVec3) -> f64 {
-    let v = DVec3::new(q.x, q.y, q.z).dot(axis);
-    let (v, w) = if q.w.is_sign_negative() { (-v, -q.w) } else { (v, q.w) };
-    2.0 * v.atan2(w)
 }
 
 /// Passes that put a planted foot's held point back after its leg's IK ([`hinged_leg_ik`] turns

@@ -304,6 +304,13 @@ pub fn heading(q: DQuat) -> f64 {
     if f.x == 0.0 && f.y == 0.0 { 0.0 } else { f.y.atan2(f.x) }
 }
 
+/// The angle of the twist of `q` about the unit `axis` (swing–twist decomposition), in [-π, π].
+pub fn twist(q: DQuat, axis: DVec3) -> f64 {
+    let v = DVec3::new(q.x, q.y, q.z).dot(axis);
+    let (v, w) = if q.w.is_sign_negative() { (-v, -q.w) } else { (v, q.w) };
+    2.0 * v.atan2(w)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
