@@ -104,6 +104,10 @@ pub struct EpisodeRecord {
     /// Animated body among such obstacles, when the run lends a stopwatch: upper-body planning
     /// time per frame played, ms.
     pub upper_body_ms_per_frame: Option<f64>,
+    /// Why the body could not get to the goal at all, when no way round what it cannot pass
+    /// under or step across exists ([`crate::sim::Outcome::Refused`]).
+    #[serde(default)]
+    pub refusal: Option<String>,
 }
 
 /// JSON writes a non-finite number as `null`; a clearance is never NaN, so `null` is infinity
@@ -141,7 +145,7 @@ impl From<Option<u64>> for Field<'_> {
 
 impl EpisodeRecord {
     /// Every field, named, in the order output formats list them.
-    pub fn fields(&self) -> [(&'static str, Field<'_>); 35] {
+    pub fn fields(&self) -> [(&'static str, Field<'_>); 36] {
         use Field::{Count, Flag, Number, Text};
         [
             ("episode", Count(self.episode as u64)),
@@ -179,6 +183,7 @@ impl EpisodeRecord {
             ("max_waist_twist_deg", self.max_waist_twist_deg.into()),
             ("upper_body_refused_steps", self.upper_body_refused_steps.into()),
             ("upper_body_ms_per_frame", self.upper_body_ms_per_frame.into()),
+            ("refusal", self.refusal.as_deref().map_or(Field::Missing, Text)),
         ]
     }
 }
@@ -342,6 +347,7 @@ pub fn run_episode_with(
         max_waist_twist_deg: animated.map(|_| upper.map_or(0.0, |u| u.max_twist_rad.to_degrees())),
         upper_body_refused_steps: animated.map(|_| upper.map_or(0, |u| u.refused_steps)),
         upper_body_ms_per_frame: upper.and_then(|u| u.planning_s.map(|s| s * 1e3 / u.frames.max(1) as f64)),
+        refusal: agent.refusal.clone(),
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
     Episode { record, trail: agent.trail.clone(), motion }

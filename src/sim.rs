@@ -77,6 +77,9 @@ pub enum Outcome {
     Reached,
     /// Time limit passed.
     TimedOut,
+    /// The body cannot get to the goal: what it cannot pass under or step across leaves no way
+    /// round (the reason is [`Agent::refusal`]). Decided at the start, before any step.
+    Refused,
 }
 
 /// Running measurements of one agent.
@@ -119,6 +122,8 @@ pub struct Agent {
     pub metrics: Metrics,
     /// Set when the episode of this agent is over.
     pub outcome: Option<Outcome>,
+    /// Why the body cannot get to the goal ([`Outcome::Refused`]).
+    pub refusal: Option<String>,
     /// When set, the agent follows this command (a user driving it, seed 002 §3.1) instead
     /// of its controller's; the controller still runs, so its state stays current.
     pub manual: Option<Command>,
@@ -268,6 +273,32 @@ pub struct Simulation {
     others: Vec<(DVec2, f64)>,
     /// What the upper bodies of animated agents plan around, built with the first of them.
     solids: Option<std::sync::Arc<crate::upper::Solids>>,
+    /// The walls the body's third dimension added to the navigation's world, if any.
+    body_walls: Option<Box<BodyWalls>>,
+}
+
+/// What a body cannot pass under or step across, made walls of its navigation
+/// ([`World::walled_below`], [`World::walled_holes`]), with the world as it was.
+#[derive(Debug, Clone)]
+struct BodyWalls {
+    plain: World,
+    walls: Vec<(crate::world::Obstacle, String)>,
+}
+
+/// Why `wall` is one for a body that ducks under `clear_under_m` and steps across `step_m`.
+fn wall_reason(wall: &crate::world::Obstacle, clear_under_m: f64, step_m: f64) -> String {
+    let b = wall.hull.aabb();
+    let (c, size) = ((b.min + b.max) / 2.0, b.max - b.min);
+    let at = format!("at ({:.2}, {:.2}), {:.2} × {:.2} m", c.x, c.y, size.x, size.y);
+    if wall.z_min > 0.0 {
+        format!(
+            "the obstacle {at}, its underside {:.2} m up, is lower than the character can duck under ({clear_under_m:.2} m) \
+             and higher than it can step over",
+            wall.z_min
+        )
+    } else {
+        format!("the hole {at} is wider than the longest step ({step_m:.2} m)")
+    }
 }
 
 impl Simulation {
@@ -275,14 +306,19 @@ impl Simulation {
     pub fn new(world: World, params: StepParameters) -> Simulation {
         // The character walks round what it cannot duck under (standing height without an upper
         // body that ducks) and holes it cannot step across.
-        let world = match &params.animation {
+        let (world, body_walls) = match &params.animation {
             Some(a) => {
                 let clear = crate::upper::duck_height_of(&a.0.db.skeleton)
                     .map_or(crate::world::obstacle::BODY_TOP_M, |d| d + crate::upper::DUCK_ROOM_M);
                 let step = world.footsteps.step_max_m;
-                world.walled_below(clear).walled_holes(step)
+                let walled = world.clone().walled_below(clear).walled_holes(step);
+                let walls = walled.obstacles()[world.obstacles().len()..]
+                    .iter()
+                    .map(|o| (o.clone(), wall_reason(o, clear, step)))
+                    .collect::<Vec<_>>();
+                (walled, (!walls.is_empty()).then(|| Box::new(BodyWalls { plain: world, walls })))
             }
-            None => world,
+            None => (world, None),
         };
         Simulation {
             world,
@@ -292,6 +328,7 @@ impl Simulation {
             scratch: Vec::new(),
             others: Vec::new(),
             solids: None,
+            body_walls,
         }
     }
 
@@ -335,6 +372,7 @@ impl Simulation {
                 AgentBody::Animated(Box::new(body))
             }
         };
+        let refusal = self.refusal(&task);
         let mut controller = controller.clone();
         controller.reset();
         let clearance = self.world.clearance(task.start.position, self.params.layout.range, &mut self.scratch)
@@ -355,7 +393,8 @@ impl Simulation {
                 steps: 0,
                 follows: 0,
             },
-            outcome: None,
+            outcome: refusal.is_some().then_some(Outcome::Refused),
+            refusal,
             manual: None,
             autopilot: Command::default(),
             memory: Memory::new(task.start.position, task.goal, self.params.limits.radius, self.params.memory),
@@ -368,6 +407,26 @@ impl Simulation {
             scan: Vec::new(),
             walls: Vec::new(),
         });
+    }
+
+    /// Why a body starting `task` cannot get to its goal, when walls of its own close every
+    /// way there that the plain world leaves open: the walls the plain world's shortest way
+    /// goes through, described.
+    fn refusal(&self, task: &Task) -> Option<String> {
+        let bw = self.body_walls.as_deref()?;
+        let (from, to, r) = (task.start.position, task.goal, self.params.limits.radius);
+        if crate::plan::shortest_path(&self.world, from, to, r).is_some() {
+            return None;
+        }
+        let way = crate::plan::shortest_path(&bw.plain, from, to, r)?;
+        let across = |o: &crate::world::Obstacle| {
+            way.points.windows(2).any(|w| o.parts.iter().any(|p| p.segment_distance(w[0], w[1]) < r))
+        };
+        let mut reasons: Vec<&str> = bw.walls.iter().filter(|(o, _)| across(o)).map(|(_, why)| why.as_str()).collect();
+        if reasons.is_empty() {
+            reasons = bw.walls.iter().map(|(_, why)| why.as_str()).collect();
+        }
+        Some(format!("no way round for the character: {}", reasons.join("; ")))
     }
 
     /// True when every agent's episode is over.

@@ -477,24 +477,44 @@ impl UpperPlanner {
         );
         let (frames, near, caps, busy) = (&s.frames, &s.near, &mut s.caps, &s.crowded);
         let body = &self.body;
-        let waist = {
+        // A part that starts closer than the margin (the played motion strayed from the plan)
+        // may keep what room it has, never less: the plan takes it out rather than leaving it
+        // held where it is.
+        let room_at_start = |which: Parts, c: &UpperConfig, caps: &mut Vec<(Part, Capsule)>| {
+            body.place(&frames[0], c, which, caps);
+            solids.clearance(caps, &near[0], MARGIN_M).min(MARGIN_M) - 1e-9
+        };
+        let arm_lattice = Lattice::<4>::new(ARM_RANGE_DEG, ARM_STEP_DEG);
+        let start_cfg = UpperConfig {
+            waist: waist_lattice.value(waist_lattice.snap(start.waist)),
+            arms: start.arms.map(|a| arm_lattice.value(arm_lattice.snap(a))),
+        };
+        let arm_need = [0, 1].map(|side| room_at_start(Parts::Arm(side), &start_cfg, caps));
+        // The waist is planned first with the arms as the database moves them (so it twists
+        // or bends far enough for them too), and if that finds no way, with the shoulders alone
+        // (the arms' own plans then have to move them clear).
+        let mut waist = None;
+        for which in [Parts::TrunkAndArms, Parts::Trunk] {
+            let plain = UpperConfig { waist: start_cfg.waist, ..Default::default() };
+            let need = room_at_start(which, &plain, caps);
             let mut legal = |t: usize, c: [i32; 2]| {
                 let cfg = UpperConfig { waist: waist_lattice.value(c), ..Default::default() };
-                body.place(&frames[t], &cfg, Parts::Trunk, caps);
-                solids.clearance(caps, &near[t], MARGIN_M) >= MARGIN_M
+                body.place(&frames[t], &cfg, which, caps);
+                solids.clearance(caps, &near[t], MARGIN_M) >= need
             };
             let start = waist_lattice.snap(start.waist);
             waist_lattice.targets(start, k_max, busy, &mut legal, &mut s.reach, &mut s.targets2);
             // The waist must see its way through the whole look-ahead: a bend begun too late
             // cannot be made up, and a step that leads there is refused while there is time.
-            search(&waist_lattice, start, &s.targets2, k_max, k_max, &mut s.visited2, &mut legal)
-                .ok_or(Refusal::Waist)?
-        };
+            waist = search(&waist_lattice, start, &s.targets2, k_max, k_max, &mut s.visited2, &mut legal);
+            if waist.is_some() {
+                break;
+            }
+        }
+        let waist = waist.ok_or(Refusal::Waist)?;
         let mut configs: Vec<UpperConfig> =
             waist.iter().map(|&c| UpperConfig { waist: waist_lattice.value(c), ..Default::default() }).collect();
-        let deg = ARM_RANGE_DEG;
-        let arm_lattice = Lattice::<4>::new(deg, ARM_STEP_DEG);
-        for side in 0..2 {
+        for (side, need) in arm_need.into_iter().enumerate() {
             let reached = configs.len() - 1;
             let path = {
                 let configs = &configs;
@@ -502,7 +522,7 @@ impl UpperPlanner {
                     let mut cfg = configs[t];
                     cfg.arms[side] = arm_lattice.value(c);
                     body.place(&frames[t], &cfg, Parts::Arm(side), caps);
-                    solids.clearance(caps, &near[t], MARGIN_M) >= MARGIN_M
+                    solids.clearance(caps, &near[t], MARGIN_M) >= need
                 };
                 let start = arm_lattice.snap(start.arms[side]);
                 arm_lattice.targets(start, reached, busy, &mut legal, &mut s.reach, &mut s.targets4);

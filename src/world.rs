@@ -98,19 +98,13 @@ impl World {
     }
 
     /// The world as navigated by a body that cannot pass under anything lower than
-    /// `clear_under_m`: overhead obstacles standing free whose underside is lower (a bar, a
-    /// lamp) become walls of the 2-D navigation, walked round; those attached to a wall
-    /// ([`ATTACHED_M`]: shelves, ledges) stay the upper body's, which passes beside them.
+    /// `clear_under_m`: overhead obstacles whose underside is lower become walls of the 2-D
+    /// navigation, walked round — those standing free (a bar, a lamp) and those bridging two
+    /// walls (a bar across a corridor) — while those attached to one wall ([`ATTACHED_M`]:
+    /// shelves, ledges) stay the upper body's, which passes beside them.
     pub fn walled_below(mut self, clear_under_m: f64) -> World {
-        let mut scratch = Vec::new();
-        let mut attached = |o: &Obstacle| match &o.hull {
-            Shape::Polygon(p) => p.vertices().iter().any(|&v| self.clearance(v, ATTACHED_M, &mut scratch) < ATTACHED_M),
-            Shape::Circle { center, radius } => {
-                let reach = radius + ATTACHED_M;
-                self.clearance(*center, reach, &mut scratch) < reach
-            }
-        };
-        let walls: Vec<bool> = self.overhead.iter().map(|o| o.z_min < clear_under_m && !attached(o)).collect();
+        let walls: Vec<bool> =
+            self.overhead.iter().map(|o| o.z_min < clear_under_m && self.walls_touched(o) != 1).collect();
         if !walls.contains(&true) {
             return self;
         }
@@ -119,6 +113,26 @@ impl World {
             if wall { low.push(o) } else { high.push(o) }
         }
         self.with_walls(low, high)
+    }
+
+    /// How many of the navigation's obstacles `o` is attached to: those within [`ATTACHED_M`]
+    /// of one of its corners (of its edge, for a round one).
+    fn walls_touched(&self, o: &Obstacle) -> usize {
+        let mut near = Vec::new();
+        let mut touched: Vec<usize> = Vec::new();
+        let mut touch = |p: DVec2, reach: f64| {
+            self.index.query_circle(p, reach, &mut near);
+            touched.extend(
+                near.iter().filter(|&&i| self.parts[i].shape.distance(p) < reach).map(|&i| self.parts[i].obstacle),
+            );
+        };
+        match &o.hull {
+            Shape::Polygon(p) => p.vertices().iter().for_each(|&v| touch(v, ATTACHED_M)),
+            Shape::Circle { center, radius } => touch(*center, radius + ATTACHED_M),
+        }
+        touched.sort_unstable();
+        touched.dedup();
+        touched.len()
     }
 
     /// The world as navigated by a walker whose longest step is `step_m`: every convex part of a

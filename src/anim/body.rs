@@ -1,19 +1,25 @@
-//! The upper body's collision geometry and configuration (seed 002 §5; DESIGN.md §5):
-//! capsules for the torso, the head, the upper arms and the forearms of the built-in actor,
-//! posed by forward kinematics, their clearance from the obstacles' prisms
+//! The body's collision geometry and the upper body's configuration (seed 002 §5; DESIGN.md
+//! §5): a capsule on every bone of the built-in actor, posed by forward kinematics from the
+//! pose `--bvh-out` writes, their clearance from the obstacles' prisms
 //! ([`crate::geom::Prism`]), and the offsets the upper-body planner adds to the database's
 //! motion ([`UpperConfig`]).
 //!
-//! The capsules run between the actor's joints: the torso from the waist joint to the base of
-//! the neck, the head from the base of the skull to the top of the head (its rounded end at the
-//! top, so the actor stands 1.75 m tall), each upper arm from the shoulder to the elbow and each
-//! forearm from the elbow to the middle of the hand. Their radii ([`TORSO_RADIUS_M`] …) are an
-//! adult's; with the shoulders 0.36 m apart the arms' capsules make the body 0.46 m wide at the
-//! shoulders, and turned side-on the chest is 0.22 m deep.
+//! The capsules run between the actor's joints, one per bone of the exported skeleton: the
+//! pelvis from the hips to the waist joint (it holds the hips' short bones to the legs), the
+//! torso from the waist joint to the base of the neck, the neck, the head from the base of the
+//! skull to the top of the head (its rounded end at the top, so the actor stands 1.75 m tall),
+//! each collarbone from the waist joint to the shoulder, each upper arm from the shoulder to the
+//! elbow, each forearm from the elbow to the middle of the hand, and each thigh, shin and foot
+//! (ankle to toe). Their radii ([`TORSO_RADIUS_M`] …) are an adult's; with the shoulders 0.36 m
+//! apart the arms' capsules make the body 0.46 m wide at the shoulders, and turned side-on the
+//! chest is 0.22 m deep.
 
 use glam::{DQuat, DVec3};
 
-use super::actor::{CHEST, HEAD, LEFT_ARM, LEFT_FORE_ARM, NECK, RIGHT_ARM, RIGHT_FORE_ARM};
+use super::actor::{
+    CHEST, HEAD, LEFT_ARM, LEFT_FOOT, LEFT_FORE_ARM, LEFT_LEG, LEFT_UP_LEG, NECK, RIGHT_ARM, RIGHT_FOOT,
+    RIGHT_FORE_ARM, RIGHT_LEG, RIGHT_UP_LEG,
+};
 use super::skeleton::{Pose, Skeleton};
 use crate::geom::{Aabb, Capsule, Prism};
 
@@ -25,30 +31,63 @@ pub const HEAD_RADIUS_M: f64 = 0.09;
 pub const UPPER_ARM_RADIUS_M: f64 = 0.05;
 /// Radius of a forearm's capsule, metres.
 pub const FOREARM_RADIUS_M: f64 = 0.045;
+/// Radius of the neck's capsule, metres.
+pub const NECK_RADIUS_M: f64 = 0.06;
+/// Radius of a collarbone's capsule, metres.
+pub const COLLARBONE_RADIUS_M: f64 = 0.05;
+/// Radius of a thigh's capsule, metres.
+pub const THIGH_RADIUS_M: f64 = 0.07;
+/// Radius of a shin's capsule, metres.
+pub const SHIN_RADIUS_M: f64 = 0.05;
+/// Radius of a foot's capsule, metres.
+pub const FOOT_RADIUS_M: f64 = 0.04;
 
-/// A part of the upper body.
+/// A part of the body: one bone of the exported skeleton.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Part {
+    /// Hips to the waist joint.
+    Pelvis,
     /// Waist to the base of the neck.
     Torso,
+    /// Base of the neck to the base of the skull.
+    Neck,
     /// Base of the skull to the top of the head.
     Head,
+    /// Waist joint to shoulder; 0 left, 1 right.
+    Collarbone(usize),
     /// Shoulder to elbow; 0 left, 1 right.
     UpperArm(usize),
     /// Elbow to hand; 0 left, 1 right.
     Forearm(usize),
+    /// Hip to knee; 0 left, 1 right.
+    Thigh(usize),
+    /// Knee to ankle; 0 left, 1 right.
+    Shin(usize),
+    /// Ankle to toe; 0 left, 1 right.
+    Foot(usize),
+}
+
+impl Part {
+    /// A leg's part (what the upper-body planner cannot move).
+    pub fn is_leg(self) -> bool {
+        matches!(self, Part::Thigh(_) | Part::Shin(_) | Part::Foot(_))
+    }
 }
 
 /// Which capsules [`UpperBody::place`] builds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Parts {
-    /// All six.
+    /// Every bone's: the trunk's, both arms' and both legs'.
     All,
-    /// The torso, the head and the shoulder joints (what the waist moves; the arms' capsules
-    /// shrunk to balls at the shoulders).
+    /// The pelvis, the torso, the neck, the head, the collarbones and the shoulder joints (what
+    /// the waist moves; the arms' capsules shrunk to balls at the shoulders).
     Trunk,
     /// One arm's two capsules; 0 left, 1 right.
     Arm(usize),
+    /// The trunk's and both arms' (what the waist moves, the arms with it).
+    TrunkAndArms,
+    /// Both legs' thighs, shins and feet (no offset moves them).
+    Legs,
 }
 
 /// Offsets the upper-body planner adds to the database's upper-body motion, radians. All zero
@@ -97,6 +136,9 @@ pub struct UpperFrame {
     head: DQuat,
     arm: [DQuat; 2],
     fore_arm: [DQuat; 2],
+    up_leg: [DQuat; 2],
+    leg: [DQuat; 2],
+    foot: [DQuat; 2],
 }
 
 impl UpperFrame {
@@ -121,21 +163,35 @@ pub struct UpperBody {
     arm_offset: [DVec3; 2],
     fore_arm_offset: [DVec3; 2],
     hand_tip: [DVec3; 2],
+    up_leg: [usize; 2],
+    leg: [usize; 2],
+    foot: [usize; 2],
+    up_leg_offset: [DVec3; 2],
+    leg_offset: [DVec3; 2],
+    foot_offset: [DVec3; 2],
+    toe_tip: [DVec3; 2],
 }
 
 impl UpperBody {
-    /// The upper body of `skeleton`, when it has the actor's named joints in the actor's
-    /// hierarchy (the chest on the root, the neck and the arms on the chest; `None` for an
+    /// The body of `skeleton`, when it has the actor's named joints in the actor's hierarchy
+    /// (the chest and the legs on the root, the neck and the arms on the chest; `None` for an
     /// imported rig).
     pub fn of(skeleton: &Skeleton) -> Option<UpperBody> {
         let f = |n: &str| skeleton.find(n);
         let j = skeleton.joints();
         let (chest, neck, head) = (f(CHEST)?, f(NECK)?, f(HEAD)?);
         let (arm, fore_arm) = ([f(LEFT_ARM)?, f(RIGHT_ARM)?], [f(LEFT_FORE_ARM)?, f(RIGHT_FORE_ARM)?]);
+        let (up_leg, leg, foot) =
+            ([f(LEFT_UP_LEG)?, f(RIGHT_UP_LEG)?], [f(LEFT_LEG)?, f(RIGHT_LEG)?], [f(LEFT_FOOT)?, f(RIGHT_FOOT)?]);
         let chained = j[chest].parent == Some(0)
             && j[neck].parent == Some(chest)
             && j[head].parent == Some(neck)
-            && (0..2).all(|s| j[arm[s]].parent == Some(chest) && j[fore_arm[s]].parent == Some(arm[s]));
+            && (0..2).all(|s| j[arm[s]].parent == Some(chest) && j[fore_arm[s]].parent == Some(arm[s]))
+            && (0..2).all(|s| {
+                j[up_leg[s]].parent == Some(0)
+                    && j[leg[s]].parent == Some(up_leg[s])
+                    && j[foot[s]].parent == Some(leg[s])
+            });
         if !chained {
             return None;
         }
@@ -152,6 +208,13 @@ impl UpperBody {
             arm_offset: arm.map(|a| j[a].offset),
             fore_arm_offset: fore_arm.map(|a| j[a].offset),
             hand_tip: [j[fore_arm[0]].end_site?, j[fore_arm[1]].end_site?],
+            up_leg,
+            leg,
+            foot,
+            up_leg_offset: up_leg.map(|a| j[a].offset),
+            leg_offset: leg.map(|a| j[a].offset),
+            foot_offset: foot.map(|a| j[a].offset),
+            toe_tip: [j[foot[0]].end_site?, j[foot[1]].end_site?],
         })
     }
 
@@ -165,6 +228,9 @@ impl UpperBody {
             head: r[self.head],
             arm: self.arm.map(|a| r[a]),
             fore_arm: self.fore_arm.map(|a| r[a]),
+            up_leg: self.up_leg.map(|a| r[a]),
+            leg: self.leg.map(|a| r[a]),
+            foot: self.foot.map(|a| r[a]),
         }
     }
 
@@ -194,7 +260,7 @@ impl UpperBody {
         let (hp, hq) = f.hips;
         let chest_p = hp + hq * self.chest_offset;
         let chest_q = hq * f.chest * c.waist_rotation();
-        if matches!(which, Parts::All | Parts::Trunk) {
+        if matches!(which, Parts::All | Parts::Trunk | Parts::TrunkAndArms) {
             let neck_p = chest_p + chest_q * self.neck_offset;
             let neck_q = chest_q * f.neck;
             let head_p = neck_p + neck_q * self.head_offset;
@@ -204,6 +270,12 @@ impl UpperBody {
             let top = tip - axis * HEAD_RADIUS_M;
             out.push((Part::Torso, Capsule { a: chest_p, b: neck_p, radius: TORSO_RADIUS_M }));
             out.push((Part::Head, Capsule { a: head_p, b: top, radius: HEAD_RADIUS_M }));
+            out.push((Part::Pelvis, Capsule { a: hp, b: chest_p, radius: TORSO_RADIUS_M }));
+            out.push((Part::Neck, Capsule { a: neck_p, b: head_p, radius: NECK_RADIUS_M }));
+            for side in 0..2 {
+                let shoulder = chest_p + chest_q * self.arm_offset[side];
+                out.push((Part::Collarbone(side), Capsule { a: chest_p, b: shoulder, radius: COLLARBONE_RADIUS_M }));
+            }
         }
         if which == Parts::Trunk {
             // The shoulders ride on the waist: their joints, as balls of the upper arm's radius.
@@ -213,7 +285,7 @@ impl UpperBody {
             }
         }
         for side in 0..2 {
-            if !matches!(which, Parts::All) && which != Parts::Arm(side) {
+            if !matches!(which, Parts::All | Parts::TrunkAndArms) && which != Parts::Arm(side) {
                 continue;
             }
             let (so, eo) = c.arm_rotations(side);
@@ -224,9 +296,22 @@ impl UpperBody {
             out.push((Part::UpperArm(side), Capsule { a: shoulder, b: elbow, radius: UPPER_ARM_RADIUS_M }));
             out.push((Part::Forearm(side), Capsule { a: elbow, b: hand, radius: FOREARM_RADIUS_M }));
         }
+        if matches!(which, Parts::All | Parts::Legs) {
+            for side in 0..2 {
+                let hip = hp + hq * self.up_leg_offset[side];
+                let thigh_q = hq * f.up_leg[side];
+                let knee = hip + thigh_q * self.leg_offset[side];
+                let shin_q = thigh_q * f.leg[side];
+                let ankle = knee + shin_q * self.foot_offset[side];
+                let toe = ankle + shin_q * f.foot[side] * self.toe_tip[side];
+                out.push((Part::Thigh(side), Capsule { a: hip, b: knee, radius: THIGH_RADIUS_M }));
+                out.push((Part::Shin(side), Capsule { a: knee, b: ankle, radius: SHIN_RADIUS_M }));
+                out.push((Part::Foot(side), Capsule { a: ankle, b: toe, radius: FOOT_RADIUS_M }));
+            }
+        }
     }
 
-    /// The six capsules of `pose` (in the pose's frame: world, for a world pose), into `out`.
+    /// Every bone's capsule of `pose` (in the pose's frame: world, for a world pose), into `out`.
     pub fn capsules(&self, pose: &Pose, out: &mut Vec<(Part, Capsule)>) {
         self.place(&self.frame(pose), &UpperConfig::default(), Parts::All, out);
     }
@@ -296,7 +381,7 @@ mod tests {
     #[test]
     fn the_standing_actor_is_an_adult() {
         let (_, caps) = standing();
-        assert_eq!(caps.len(), 6);
+        assert_eq!(caps.len(), 16);
         let t = top(&caps);
         assert!((1.70..=1.85).contains(&t), "top {t}");
         let arm = caps.iter().find(|(p, _)| *p == Part::UpperArm(0)).unwrap().1;
@@ -360,9 +445,12 @@ mod tests {
         let mut out = Vec::new();
         body.place(&f, &UpperConfig { waist: [75f64.to_radians(), 0.0], ..Default::default() }, Parts::All, &mut out);
         assert!(top(&out) < top(&caps) - 0.4, "bent top {}", top(&out));
+        // The width above the legs (which the waist does not turn).
         let width = |caps: &[(Part, Capsule)]| {
-            let ys =
-                caps.iter().flat_map(|(_, c)| [c.a.y + c.radius, c.b.y + c.radius, c.a.y - c.radius, c.b.y - c.radius]);
+            let ys = caps
+                .iter()
+                .filter(|(p, _)| !p.is_leg())
+                .flat_map(|(_, c)| [c.a.y + c.radius, c.b.y + c.radius, c.a.y - c.radius, c.b.y - c.radius]);
             let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), y| (l.min(y), h.max(y)));
             hi - lo
         };

@@ -414,9 +414,10 @@ impl SwitchPoint {
     /// The world poses playback would show every `h` seconds if candidate `choice` starts
     /// here, into `out`: the switch point first, then to the end of the candidate's interval
     /// (cross-fades blended as playback blends them; foot locking, which moves only the feet,
-    /// left out), then `extra_s` seconds more in its last pose, going on with the interval's
-    /// mean turn and at its mean speed or `min_speed` if faster (the character may walk on
-    /// faster after a slow interval) — the motion the upper-body planner looks ahead over.
+    /// left out), then `extra_s` seconds more in its last pose, going on straight ahead at its
+    /// end heading at the interval's mean speed or `min_speed` if faster (the character may
+    /// walk on faster after a slow interval) — the motion the upper-body planner looks ahead
+    /// over.
     /// Returns how many of the poses lie within the interval.
     pub fn poses(&self, db: &Database, choice: Choice, extra_s: f64, min_speed: f64, out: &mut Vec<Pose>) -> usize {
         let mut root = self.started(db, choice);
@@ -440,18 +441,18 @@ impl SwitchPoint {
             let last = pose_of(&root);
             let (a, b) = (db.ground(iv.clip, iv.start as f64), db.ground(iv.clip, end));
             let span = (end - iv.start as f64) * ft;
-            let mut d = root.warp.apply(a.to_local(b), 1.0);
+            let d = root.warp.apply(a.to_local(b), 1.0);
             let rate = if span > 0.0 { 1.0 / span } else { 0.0 };
             let length = d.x.hypot(d.y);
             let at_least = min_speed.max(0.0) * span;
-            if length * rate > 0.0 && at_least > length {
-                (d.x, d.y) = (d.x * at_least / length, d.y * at_least / length);
-            } else if length == 0.0 && at_least > 0.0 && !db.kinds[root.interval].in_place {
-                d.x = at_least;
-            }
+            // Straight on at the interval's end heading: the navigation steers the character
+            // along its way, so neither a turn nor a step's sideways sway goes on (carried on
+            // for a second, either would put the look-ahead off a narrow way the character
+            // keeps to).
+            let travel = if length > 0.0 || !db.kinds[root.interval].in_place { length.max(at_least) } else { 0.0 };
             for k in 1..=extra {
                 let s = k as f64 * self.h * rate;
-                let at = root.world.then(Ground { x: d.x * s, y: d.y * s, yaw: d.yaw * s });
+                let at = root.world.then(Ground { x: travel * s, y: 0.0, yaw: 0.0 });
                 out.push(place(last.clone(), at));
             }
         }

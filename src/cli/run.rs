@@ -34,6 +34,9 @@ pub struct MapArgs {
     pub seed: u64,
 }
 
+/// Most refused episodes whose reasons `strider run` prints.
+const MAX_REFUSALS_SHOWN: usize = 5;
+
 /// `strider run` options.
 #[derive(Debug, Args)]
 pub struct RunArgs {
@@ -232,6 +235,13 @@ pub fn run(args: RunArgs) -> Outcome {
     write_records(&mut out, args.format, &summary, &records)?;
     out.flush()?;
     let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
+    let refused: Vec<_> = records.iter().filter_map(|r| Some((r.episode, r.refusal.as_deref()?))).collect();
+    for (episode, why) in refused.iter().take(MAX_REFUSALS_SHOWN) {
+        eprintln!("episode {episode}: {why}");
+    }
+    if refused.len() > MAX_REFUSALS_SHOWN {
+        eprintln!("… and {} more episodes with no way round", refused.len() - MAX_REFUSALS_SHOWN);
+    }
     if failed > 0 {
         return Err(Failure::Task(anyhow!("{failed} of {} episodes did not reach the goal cleanly", records.len())));
     }
@@ -403,6 +413,7 @@ mod tests {
             max_waist_twist_deg: a(80.0),
             upper_body_refused_steps: n(0),
             upper_body_ms_per_frame: a(0.1),
+            refusal: animated.then(|| "no way round, for the format's sake".into()),
         }
     }
 
@@ -419,7 +430,7 @@ mod tests {
         let csv = String::from_utf8(csv).unwrap();
         let mut lines = csv.lines();
         let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        assert_eq!(header.len(), 35);
+        assert_eq!(header.len(), 36);
         header.sort();
         let mut keys = keys;
         keys.sort();

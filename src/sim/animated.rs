@@ -314,18 +314,33 @@ fn path_keeps(space: &mut dyn Space, pts: &[DVec2], need: f64) -> bool {
     }
 }
 
-/// Both feet of `feet` placed on the ground reference `at` keep [`FOOT_ROOM_M`] from obstacles,
-/// heel and toe.
-fn feet_keep_room(space: &mut dyn Space, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
-    // Room around the root for every point settles it at once.
-    let reach = feet.points.iter().flatten().map(|p| p.truncate().length()).fold(0.0, f64::max);
+/// Both feet where a candidate starts (`start`: its feet placed on their ground reference) and
+/// where it ends (`end`) keep [`FOOT_ROOM_M`] from obstacles, heel and toe, and so does the way
+/// between (a foot stepping into a corridor does not cut the corner of its wall).
+fn feet_keep_room(
+    space: &mut dyn Space,
+    start: (&crate::anim::db::FeetAt, Ground),
+    end: (&crate::anim::db::FeetAt, Ground),
+) -> bool {
+    let place = |(feet, at): (&crate::anim::db::FeetAt, Ground), foot: usize, k: usize| {
+        let p = feet.points[foot][k];
+        let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
+        DVec2::new(w.x, w.y)
+    };
+    // Room around the start's root for every point settles it at once.
+    let root = DVec2::new(start.1.x, start.1.y);
+    let points = || (0..2).flat_map(|foot| (0..2).map(move |k| (foot, k)));
+    let reach = points()
+        .flat_map(|(foot, k)| [place(start, foot, k), place(end, foot, k)])
+        .map(|p| p.distance(root))
+        .fold(0.0, f64::max);
     let room = reach + FOOT_ROOM_M;
-    if space.clearance(DVec2::new(at.x, at.y), room + 1e-9) >= room {
+    if space.clearance(root, room + 1e-9) >= room {
         return true;
     }
-    feet.points.iter().flatten().all(|p| {
-        let w = at.then(Ground { x: p.x, y: p.y, yaw: 0.0 });
-        space.clearance(DVec2::new(w.x, w.y), FOOT_ROOM_M) >= FOOT_ROOM_M
+    points().all(|(foot, k)| {
+        let (a, b) = (place(start, foot, k), place(end, foot, k));
+        space.segment_clearance(a, b, FOOT_ROOM_M) >= FOOT_ROOM_M
     })
 }
 
@@ -396,8 +411,10 @@ impl LookAhead<'_> {
         if !self.clear(if db.kinds[next].spot_turn != 0 { needs.1 } else { needs.0 }) {
             return Eligibility::Blocked;
         }
-        if !self.feet_clear(db.feet_at(next, false), at.ground) || !self.feet_clear(db.feet_at(next, true), then.ground)
-        {
+        // A step never puts a foot beside the body's disc into a wall (steps that turn or start
+        // place a foot well to the side, and a cross-fade carries a swinging foot toward where
+        // the candidate starts it).
+        if !feet_keep_room(self.space, (db.feet_at(next, false), at.ground), (db.feet_at(next, true), then.ground)) {
             return Eligibility::Blocked;
         }
         if in_place {
@@ -417,12 +434,14 @@ impl LookAhead<'_> {
         Eligibility::Blocked
     }
 
-    /// Both feet of a candidate's first or last frame (`feet`, placed on the ground reference
-    /// `at`) keep [`FOOT_ROOM_M`] from obstacles, heel and toe: a step never puts a foot
-    /// beside the body's disc into a wall (steps that turn or start place a foot well to the
-    /// side, and a cross-fade carries a swinging foot toward where the candidate starts it).
-    fn feet_clear(&mut self, feet: &crate::anim::db::FeetAt, at: Ground) -> bool {
-        feet_keep_room(self.space, feet, at)
+    /// Candidate `a`'s feet at `at` keep their room where it starts, where it ends and between
+    /// ([`feet_keep_room`]).
+    fn feet_room(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> bool {
+        let choice = self.choice(db, at, a);
+        let next = db.candidates[at.ending][a].interval;
+        self.path.clear();
+        let then = at.path(db, choice, self.path);
+        feet_keep_room(self.space, (db.feet_at(next, false), at.ground), (db.feet_at(next, true), then.ground))
     }
 
     /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
@@ -506,19 +525,22 @@ impl Chooser for LookAhead<'_> {
         let cands = &db.candidates[at.ending];
         let a = pick.unwrap_or_else(|| {
             // Nothing keeps the margin: the candidate whose path keeps the most room (the
-            // last-resort guard keeps the root out of anything) — but never one that moves
-            // where the upper body could not follow.
-            let room: Vec<f64> = (0..cands.len())
+            // last-resort guard keeps the root out of anything) among those whose feet keep
+            // theirs, if any — but never one that moves where the upper body could not follow.
+            let room: Vec<(bool, f64)> = (0..cands.len())
                 .map(|a| {
                     let moves = !db.kinds[cands[a].interval].in_place;
                     if moves && self.refused & (1u64 << a.min(63)) != 0 {
-                        f64::NEG_INFINITY
+                        (false, f64::NEG_INFINITY)
                     } else {
-                        self.path_clearance(db, at, a)
+                        (self.feet_room(db, at, a), self.path_clearance(db, at, a))
                     }
                 })
                 .collect();
-            (0..cands.len()).max_by(|&x, &y| room[x].total_cmp(&room[y]).then(y.cmp(&x))).unwrap_or(0)
+            let key = |a: usize| room[a];
+            (0..cands.len())
+                .max_by(|&x, &y| key(x).0.cmp(&key(y).0).then(key(x).1.total_cmp(&key(y).1)).then(y.cmp(&x)))
+                .unwrap_or(0)
         });
         // Held: something the character wanted was blocked by obstacles, and it stands still
         // instead (turning on the spot is doing something about it).
@@ -682,7 +704,8 @@ impl AnimatedBody {
     /// Stride warping within a step: when the commanded speed has changed since the interval
     /// playing began, the rest of it plays with the stride that meets the new speed (within the
     /// limits), if the path it then takes keeps the clearance the look-ahead keeps and the feet
-    /// where it ends keep theirs.
+    /// where it ends keep theirs — and the upper body is not moving for anything over the step
+    /// (its plan was made for the step as chosen).
     fn restride(&mut self, space: &mut dyn Space) {
         let anim = Arc::clone(&self.anim);
         let db = &anim.db;
@@ -691,6 +714,10 @@ impl AnimatedBody {
         let iv = &db.intervals[i];
         let now = self.player.warp();
         if db.kinds[i].in_place || iv.speed < limits.min_speed_mps {
+            return;
+        }
+        let end = self.player.time_in_interval(db) + self.player.time_to_switch(db);
+        if self.upper.as_deref().is_some_and(|u| u.active(end)) {
             return;
         }
         let stride = (self.command.speed / iv.speed).clamp(limits.stride.0, limits.stride.1);
@@ -704,7 +731,9 @@ impl AnimatedBody {
         let want = self.radius + anim.clearance_m;
         let need = room_now(space, DVec2::new(g.x, g.y), want).min(want);
         // The step lands where the new stride puts it: its feet keep their room there too.
-        if path_keeps(space, &self.path, need) && feet_keep_room(space, db.feet_at(i, true), end) {
+        if path_keeps(space, &self.path, need)
+            && feet_keep_room(space, (db.feet_at(i, true), end), (db.feet_at(i, true), end))
+        {
             self.player.rewarp(warp);
         }
     }

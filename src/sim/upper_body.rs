@@ -177,6 +177,13 @@ impl UpperBodyState {
         }
     }
 
+    /// The upper body's plan moves it for something (offsets other than none) now or by `t`
+    /// seconds into the plan playing.
+    pub fn active(&self, t: f64) -> bool {
+        let none = UpperConfig::default();
+        self.plan.configs.first().is_some_and(|c| *c != none) || self.offsets(t) != none
+    }
+
     /// Measures a frame played (`pose` with the offsets `c` applied).
     pub fn measure(&mut self, pose: &Pose, c: &UpperConfig) {
         let f = &mut self.figures;
@@ -185,17 +192,25 @@ impl UpperBodyState {
         f.max_twist_rad = f.max_twist_rad.max(c.waist[1].abs());
         self.planner.body().capsules(pose, &mut self.caps);
         let at = DVec2::new(pose.root.x, pose.root.y);
-        let d = self.solids.clearance_near(&self.caps, at, 1.0, &mut self.near);
+        // The legs are the footstep planner's (a sole on a kerb's top has its capsule's skin in
+        // the kerb): the clearance is that of the parts the upper-body planner moves, which
+        // `place` lists before the legs.
+        let legs = self.caps.iter().position(|(p, _)| p.is_leg()).unwrap_or(self.caps.len());
+        let d = self.solids.clearance_near(&self.caps[..legs], at, 1.0, &mut self.near);
         if d < 1.0 {
             f.min_clearance_m = f.min_clearance_m.min(d);
         }
-        // A capsule in an obstacle: is a bone (the capsule's axis) in it too?
-        let inside = d < 0.0 && {
-            for (_, c) in &mut self.caps {
-                c.radius = 0.0;
+        // A bone (a capsule's axis), legs included, in an obstacle.
+        let from = if d < 0.0 { 0 } else { legs };
+        for (part, c) in &mut self.caps[from..] {
+            // The head's capsule ends its radius short of the top of the head, its bone's end.
+            if *part == Part::Head {
+                c.b += (c.b - c.a).normalize_or_zero() * c.radius;
             }
-            self.solids.clearance_near(&self.caps, at, 1.0, &mut self.near) < 0.0
-        };
+            c.radius = 0.0;
+        }
+        let inside =
+            from < self.caps.len() && self.solids.clearance_near(&self.caps[from..], at, 1.0, &mut self.near) < 0.0;
         if inside && !f.inside {
             f.collisions += 1;
         }

@@ -333,6 +333,7 @@ fn agent_panel(app: &App, area: Rect, buf: &mut Buffer) {
     let status = match agent.outcome {
         Some(Outcome::Reached) => " · reached",
         Some(Outcome::TimedOut) => " · timed out",
+        Some(Outcome::Refused) => " · no way round",
         None => "",
     };
     let title =
