@@ -328,13 +328,18 @@ impl LayeredController {
         self.last_t_s = t_s;
         self.best_ever = self.best_ever.min(s.goal_distance);
         let (left, right) = (s.sectors[2], s.sectors[0]);
+        // Committed to a narrow part of the remembered way (lined up for it), the corridors
+        // are the disc's own: a gap the way goes through may leave less than the margin to
+        // either side, and measured with it, the gap would look shut and avoidance would turn
+        // the agent one way and the other in front of it.
+        let margin = if s.through_gap { 0.0 } else { p.margin_m };
         // Ahead, what matters is the corridor the disc sweeps (so that it can pass doors
         // barely wider than itself), not the nearest point of a wide sector.
-        let front = swept_ahead(&s.scan, s.heading, s.radius, p.margin_m, s.range).unwrap_or(s.sectors[1]);
+        let front = swept_ahead(&s.scan, s.heading, s.radius, margin, s.range).unwrap_or(s.sectors[1]);
         // Free up to the point steered at (a waypoint of the remembered way, or the goal) is
         // as good as free to the end of the range.
         let aim = s.aim_distance.min(s.goal_distance).min(s.range);
-        let (way, clear_to_aim) = match swept_ahead(&s.scan, s.heading + s.goal_angle, s.radius, p.margin_m, s.range) {
+        let (way, clear_to_aim) = match swept_ahead(&s.scan, s.heading + s.goal_angle, s.radius, margin, s.range) {
             Some(free) if free < aim => (free, false),
             _ => (s.range, true),
         };

@@ -113,6 +113,9 @@ pub struct Aim {
     pub remaining_m: f64,
     /// Distance to the waypoint, metres.
     pub waypoint_m: f64,
+    /// The waypoint lines the agent up for a narrow part of the way just ahead (a gap, a door,
+    /// a corridor) that the way goes through ([`Memory::heading_with`]).
+    pub through_gap: bool,
 }
 
 /// The remembered obstacles and the current path to the goal.
@@ -459,18 +462,18 @@ impl Memory {
         self.path.drain(..start);
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
-        let waypoint = match self.line_up(from, span) {
-            Some(p) => p,
-            None => self.farthest_waypoint(from, sight),
+        let (waypoint, through_gap) = match self.line_up(from, span) {
+            Some(p) => (p, true),
+            None => (self.farthest_waypoint(from, sight), false),
         };
         let remaining: f64 =
             from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
         let to = waypoint - from;
         if to.length() < 1e-9 {
             let to = self.goal - from;
-            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() });
+            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap });
         }
-        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
+        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap })
     }
 
     /// The waypoint: the farthest point of the path within reach that the disc can go straight
@@ -558,22 +561,58 @@ impl Memory {
         if dir == DVec2::ZERO || run < 2.0 * self.params.cell_m {
             return None;
         }
-        // The middle of the gap as measured across it, at the entry and (in a corridor) a
-        // little further on: the line through both is the gap's, whatever cells the path takes.
-        let mut middle = |p: DVec2| {
-            let across = dir.perp();
+        // The middle of the gap as measured across it, at its narrowest over the path's first
+        // [`GAP_AXIS_M`] past the entry (the throat: between two posts the rays across the
+        // entry may pass them both) and (in a corridor) a little further on: the line through
+        // both is the gap's, whatever cells the path takes.
+        let across = dir.perp();
+        let mut measure = |p: DVec2| {
             let (l, r) = (span(p, across), span(p, -across));
-            (l + r < GAP_MEASURE_M).then(|| p + across * (0.5 * (l - r)))
+            (l + r < GAP_MEASURE_M).then(|| (l + r, p + across * (0.5 * (l - r))))
         };
-        let centre = middle(e)?;
-        let line = match middle(e + dir * GAP_AXIS_M) {
+        let mut throat: Option<(f64, DVec2, DVec2)> = None;
+        let mut run = 0.0;
+        for (j, &p) in self.path[k..].iter().enumerate() {
+            if j > 0 {
+                run += self.path[k + j - 1].distance(p);
+            }
+            if run > GAP_AXIS_M {
+                break;
+            }
+            if let Some((w, m)) = measure(p)
+                && throat.is_none_or(|(best, _, _)| w < best - 1e-9)
+            {
+                throat = Some((w, m, p));
+            }
+        }
+        let (_, centre, at) = throat?;
+        let mut middle = |p: DVec2| measure(p).map(|(_, m)| m);
+        let line = match middle(at + dir * GAP_AXIS_M) {
             Some(further) if (further - centre).normalize_or_zero().dot(dir) > SAME_LINE_COS => {
                 (further - centre).normalize()
             }
             _ => dir,
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
-        self.line_depth(from, target).map(|_| target)
+        // The agent may stand in the inflation of the gap's posts: as the search does, it may
+        // cross closed cells near where it stands to get out of it, never a remembered obstacle.
+        self.line_clear(from, target, self.reach_cells).then_some(target)
+    }
+
+    /// Whether the straight line from `a` to `b` crosses no closed cell, except closed cells
+    /// within `escape` cells of `a`'s (no obstacle was seen in them) as the search lets the
+    /// agent cross them to get out of the inflation it stands in.
+    fn line_clear(&self, a: DVec2, b: DVec2, escape: i64) -> bool {
+        let step = 0.5 * self.params.cell_m;
+        let n = (a.distance(b) / step).ceil().max(1.0) as usize;
+        let here = self.cell_of(a);
+        (1..=n).all(|k| {
+            let (i, j) = self.cell_of(a + (b - a) * (k as f64 / n as f64));
+            let Some(c) = self.index(i, j) else { return true };
+            let cell = self.cells[c];
+            let near = (i - here.0).abs().max((j - here.1).abs()) <= escape;
+            cell & HARD == 0 || (near && cell & MARKED == 0)
+        })
     }
 
     /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its
