@@ -438,7 +438,11 @@ impl Simulation {
                 let world = &self.world;
                 let scratch = &mut self.scratch;
                 let span = |p: DVec2, d: DVec2| world.ray_cast(p, d, range, scratch).unwrap_or(f64::INFINITY);
-                if let Some(aim) = agent.memory.heading_with(pose.position, sight, span) {
+                let reach = |h: f64| match follow::swept_ahead(scan, h, radius, 0.0, range) {
+                    Some(f) if f < range => f,
+                    _ => f64::INFINITY,
+                };
+                if let Some(aim) = agent.memory.heading_with(pose.position, sight, span, reach) {
                     agent.heading_to_goal = aim.heading;
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;

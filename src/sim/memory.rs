@@ -429,17 +429,21 @@ impl Memory {
     /// in sight is left. `None` when the goal cannot be reached over what is remembered (or
     /// the search gives up).
     pub fn heading(&mut self, from: DVec2, sight: impl Fn(f64) -> f64) -> Option<Aim> {
-        self.heading_with(from, sight, |_, _| f64::INFINITY)
+        self.heading_with(from, sight, |_, _| f64::INFINITY, |_| f64::INFINITY)
     }
 
     /// [`Memory::heading`] with `span(p, unit)`, how far the way is free from `p` along `unit`
     /// (the range sensor's measure; infinite when nothing is near), which puts the line a gap
-    /// is entered along through the middle of the gap as measured, not of the grid's cells.
+    /// is entered along through the middle of the gap as measured, not of the grid's cells, and
+    /// `reach(heading)`, how far the bare disc can go straight along an absolute heading now
+    /// (infinite when nothing limits it), which decides whether an agent standing in the
+    /// inflation of a gap's post can go straight onto the gap's line.
     pub fn heading_with(
         &mut self,
         from: DVec2,
         sight: impl Fn(f64) -> f64,
         span: impl FnMut(DVec2, DVec2) -> f64,
+        reach: impl Fn(f64) -> f64,
     ) -> Option<Aim> {
         let near = self
             .path
@@ -462,7 +466,7 @@ impl Memory {
         self.path.drain(..start);
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
-        let (waypoint, through_gap) = match self.line_up(from, span) {
+        let (waypoint, through_gap) = match self.line_up(from, span, reach) {
             Some(p) => (p, true),
             None => (self.farthest_waypoint(from, sight), false),
         };
@@ -531,7 +535,12 @@ impl Memory {
     /// passes through the middle — steering continuously, never one way and then the other.
     /// `None` when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is
     /// not in clear sight over what is remembered.
-    fn line_up(&self, from: DVec2, mut span: impl FnMut(DVec2, DVec2) -> f64) -> Option<DVec2> {
+    fn line_up(
+        &self,
+        from: DVec2,
+        mut span: impl FnMut(DVec2, DVec2) -> f64,
+        reach: impl Fn(f64) -> f64,
+    ) -> Option<DVec2> {
         let mut along = from.distance(self.path[0]);
         let mut entry = None;
         for (k, &p) in self.path.iter().enumerate() {
@@ -594,25 +603,14 @@ impl Memory {
             _ => dir,
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
-        // The agent may stand in the inflation of the gap's posts: as the search does, it may
-        // cross closed cells near where it stands to get out of it, never a remembered obstacle.
-        self.line_clear(from, target, self.reach_cells).then_some(target)
-    }
-
-    /// Whether the straight line from `a` to `b` crosses no closed cell, except closed cells
-    /// within `escape` cells of `a`'s (no obstacle was seen in them) as the search lets the
-    /// agent cross them to get out of the inflation it stands in.
-    fn line_clear(&self, a: DVec2, b: DVec2, escape: i64) -> bool {
-        let step = 0.5 * self.params.cell_m;
-        let n = (a.distance(b) / step).ceil().max(1.0) as usize;
-        let here = self.cell_of(a);
-        (1..=n).all(|k| {
-            let (i, j) = self.cell_of(a + (b - a) * (k as f64 / n as f64));
-            let Some(c) = self.index(i, j) else { return true };
-            let cell = self.cells[c];
-            let near = (i - here.0).abs().max((j - here.1).abs()) <= escape;
-            cell & HARD == 0 || (near && cell & MARKED == 0)
-        })
+        // The agent may stand in the inflation of the gap's posts, where every line out of it
+        // crosses closed cells: then the line is taken when the disc, as the sensor sees it
+        // now, goes straight to the point.
+        let (i, j) = self.cell_of(from);
+        let inflated = self.index(i, j).is_some_and(|c| self.cells[c] & HARD != 0);
+        let to = target - from;
+        let clear = self.line_depth(from, target).is_some() || (inflated && reach(to.to_angle()) >= to.length());
+        clear.then_some(target)
     }
 
     /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its
