@@ -133,9 +133,10 @@ pub struct Memory {
     cells: Vec<u8>,
     /// Marked cells.
     known: usize,
-    /// The cells a marked cell inflates, as offsets from it: whether each is closed, and its
-    /// band of the margin.
-    inflation: Vec<(i64, i64, bool, u8)>,
+    /// The cells a remembered point may inflate, as offsets from its cell.
+    inflation: Vec<(i64, i64)>,
+    /// The agent's radius, metres.
+    radius: f64,
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
@@ -265,24 +266,28 @@ impl Open {
     }
 }
 
-/// The cells a marked cell inflates for a disc of `radius` with a clearance `margin` (cells of
-/// side `c`): closed when its centre lies within the radius of the marked cell's, and in band
-/// [`BANDS`] (innermost) down to 1 across the margin beyond.
-fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64, bool, u8)> {
-    let reach = ((radius + margin) / c).ceil() as i64;
+/// The cells a remembered obstacle point may inflate for a disc of `radius` with a clearance
+/// `margin` (cells of side `c`), as offsets from the point's cell: every cell whose centre may
+/// lie within `radius + margin` of a point somewhere in that cell.
+fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
+    let reach = ((radius + margin) / c).ceil() as i64 + 1;
     let mut out = Vec::new();
     for dy in -reach..=reach {
         for dx in -reach..=reach {
-            let d = ((dx * dx + dy * dy) as f64).sqrt() * c;
+            let d = (((dx.abs() - 1).max(0).pow(2) + (dy.abs() - 1).max(0).pow(2)) as f64).sqrt() * c;
             if d < radius + margin {
-                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
-                let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
-                out.push((dx, dy, d < radius, band));
+                out.push((dx, dy));
             }
         }
     }
     out
 }
+
+/// A cell is closed when its centre lies within the disc's radius less this share of a cell of
+/// a point seen: the way through a gap as wide as the disc then always has a cell centre in it,
+/// however the grid falls across the gap, and the gap stays open (a gap up to half a cell
+/// narrower may look open; the agent held up there closes it, [`Memory::close_gaps_ahead`]).
+const CLOSE_GIVE_CELLS: f64 = 0.125;
 
 impl Memory {
     /// An empty memory for an agent of `radius` metres going from `start` to `goal`.
@@ -306,6 +311,7 @@ impl Memory {
             cells: vec![0; nx * ny],
             known: 0,
             inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
+            radius: radius.max(0.0),
             reach_cells,
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
@@ -354,30 +360,44 @@ impl Memory {
         // Cells the path passes keep their world positions; the plan stays valid.
     }
 
-    /// Remembers an obstacle at `p` (in its cell).
+    /// Remembers an obstacle at `p`: its cell is marked, and the cells around are closed or
+    /// dearer by their centres' distance from `p` itself (not from the marked cell's centre,
+    /// which may lie most of a cell away from what was seen).
     fn mark(&mut self, p: DVec2) {
         if !p.is_finite() {
             return;
         }
         let (i, j) = self.cell_of(p);
         let Some(k) = self.index(i, j) else { return };
-        if self.cells[k] & MARKED != 0 {
-            return;
+        let mut changed = self.cells[k] & MARKED == 0;
+        if changed {
+            self.cells[k] |= MARKED;
+            self.known += 1;
         }
-        self.cells[k] |= MARKED;
-        self.known += 1;
-        for &(dx, dy, closed, band) in &self.inflation {
+        let c = self.params.cell_m;
+        let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
+        let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        for &(dx, dy) in &self.inflation {
             let Some(n) = self.index(i + dx, j + dy) else { continue };
-            let cell = &mut self.cells[n];
-            *cell = (*cell & !BAND) | (*cell & BAND).max(band) | if closed { HARD } else { 0 };
+            let d = self.centre(i + dx, j + dy).distance(p);
+            if d >= radius + margin {
+                continue;
+            }
+            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
+            let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
+            let old = self.cells[n];
+            let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+            if cell != old {
+                self.cells[n] = cell;
+                changed = true;
+            }
         }
-        if !self.stale {
-            // Does the new obstacle come near the path?
-            let q = self.centre(i, j);
-            // Off the path's box by more than the distance (and rounding), it is near no point.
+        if changed && !self.stale {
+            // Does what changed come near the path?
             let (lo, hi) = self.path_box;
-            let off = (lo - q).max(q - hi).max_element();
-            if off <= self.stale_m + 1e-9 && self.path.iter().any(|p| p.distance(q) <= self.stale_m) {
+            // Off the path's box by more than the distance (and rounding), it is near no point.
+            let off = (lo - p).max(p - hi).max_element();
+            if off <= self.stale_m + 1e-9 && self.path.iter().any(|q| q.distance(p) <= self.stale_m) {
                 self.stale = true;
             }
         }
@@ -466,9 +486,9 @@ impl Memory {
         self.path.drain(..start);
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
-        let (waypoint, through_gap) = match self.line_up(from, span, reach) {
+        let (waypoint, through_gap) = match self.line_up(from, span, &reach) {
             Some(p) => (p, true),
-            None => (self.farthest_waypoint(from, sight), false),
+            None => (self.farthest_waypoint(from, sight, &reach), false),
         };
         let remaining: f64 =
             from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
@@ -483,7 +503,7 @@ impl Memory {
     /// The waypoint: the farthest point of the path within reach that the disc can go straight
     /// to from `from` without touching what is remembered (with the margin if it can), so that
     /// steering toward it never cuts a corner into a wall; else the next point.
-    fn farthest_waypoint(&self, from: DVec2, sight: impl Fn(f64) -> f64) -> DVec2 {
+    fn farthest_waypoint(&self, from: DVec2, sight: impl Fn(f64) -> f64, bare: &impl Fn(f64) -> f64) -> DVec2 {
         let mut along = from.distance(self.path[0]);
         let mut prev = self.path[0];
         let reach = self
@@ -500,7 +520,7 @@ impl Memory {
         // its outer bands. Looked for from the far end: the first roomy point settles it.
         let (mut clear, mut roomy, mut kept) = (None, None, None);
         for &p in self.path[..reach].iter().rev() {
-            let Some(depth) = self.line_depth(from, p) else { continue };
+            let Some(depth) = self.sight_depth(from, p, bare) else { continue };
             clear.get_or_insert(p);
             if depth != 0 && (depth >= BANDS || kept.is_some()) {
                 continue;
@@ -539,7 +559,7 @@ impl Memory {
         &self,
         from: DVec2,
         mut span: impl FnMut(DVec2, DVec2) -> f64,
-        reach: impl Fn(f64) -> f64,
+        reach: &impl Fn(f64) -> f64,
     ) -> Option<DVec2> {
         let mut along = from.distance(self.path[0]);
         let mut entry = None;
@@ -603,14 +623,36 @@ impl Memory {
             _ => dir,
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
-        // The agent may stand in the inflation of the gap's posts, where every line out of it
-        // crosses closed cells: then the line is taken when the disc, as the sensor sees it
-        // now, goes straight to the point.
-        let (i, j) = self.cell_of(from);
-        let inflated = self.index(i, j).is_some_and(|c| self.cells[c] & HARD != 0);
-        let to = target - from;
-        let clear = self.line_depth(from, target).is_some() || (inflated && reach(to.to_angle()) >= to.length());
-        clear.then_some(target)
+        // The agent may stand in the inflation of the gap's posts.
+        self.sight_depth(from, target, &reach).map(|_| target)
+    }
+
+    /// [`Memory::line_depth`] for an agent at `from` that may stand in or beside the inflation
+    /// of what it remembers, where the way out crosses closed cells (as the search lets it, near
+    /// where it stands): a line that crosses closed cells only there, never a remembered
+    /// obstacle, and that the disc, as its sensor shows it now (`reach`, as for
+    /// [`Memory::heading_with`]), goes straight along to `to`, counts as clear, deep in the
+    /// margin.
+    fn sight_depth(&self, from: DVec2, to: DVec2, reach: &impl Fn(f64) -> f64) -> Option<u8> {
+        self.line_depth(from, to).or_else(|| {
+            let d = to - from;
+            (self.escapes(from, to) && reach(d.to_angle()) >= d.length()).then_some(BANDS)
+        })
+    }
+
+    /// Whether the straight line from `a` to `b` crosses closed cells only within the search's
+    /// escape reach of `a`'s cell and none where an obstacle was seen.
+    fn escapes(&self, a: DVec2, b: DVec2) -> bool {
+        let step = 0.5 * self.params.cell_m;
+        let n = (a.distance(b) / step).ceil().max(1.0) as usize;
+        let here = self.cell_of(a);
+        (1..=n).all(|k| {
+            let (i, j) = self.cell_of(a + (b - a) * (k as f64 / n as f64));
+            let Some(c) = self.index(i, j) else { return true };
+            let cell = self.cells[c];
+            let near = (i - here.0).abs().max((j - here.1).abs()) <= self.reach_cells;
+            cell & HARD == 0 || (near && cell & MARKED == 0)
+        })
     }
 
     /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its
