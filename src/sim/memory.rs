@@ -98,6 +98,9 @@ const PURSUIT_M: f64 = 0.6;
 /// Least cosine between the path's direction and the line through two measured middles for
 /// the latter to be the gap's line (30°).
 const SAME_LINE_COS: f64 = 0.866;
+/// Rays over each half turn that find the nearest obstacle point on either side of the way when
+/// a gap is measured.
+const SIDE_RAYS: usize = 12;
 /// Widest way across that counts as a gap to line up for, metres.
 const GAP_MEASURE_M: f64 = 2.0;
 
@@ -284,9 +287,10 @@ fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
 }
 
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
-/// a point seen: the way through a gap as wide as the disc then always has a cell centre in it,
-/// however the grid falls across the gap, and the gap stays open (a gap up to half a cell
-/// narrower may look open; the agent held up there closes it, [`Memory::close_gaps_ahead`]).
+/// a point seen: a gap three quarters of a cell wider than the disc (0.69 m for the 0.6 m disc)
+/// then always keeps a cell centre open across it, however the grid falls, and stays open. A
+/// gap down to a quarter of a cell narrower than the disc may look open; an agent held up
+/// there closes it ([`Memory::close_gaps_ahead`]).
 const CLOSE_GIVE_CELLS: f64 = 0.125;
 
 impl Memory {
@@ -594,12 +598,27 @@ impl Memory {
         // [`GAP_AXIS_M`] past the entry (the throat: between two posts the rays across the
         // entry may pass them both) and (in a corridor) a little further on: the line through
         // both is the gap's, whatever cells the path takes.
-        let across = dir.perp();
+        // The gap as the range sensor measures it from a point of the way: the nearest
+        // obstacle point on either side of the path (rays over each half turn), the way across
+        // between the two. Rays square to the path alone would miss a thin row of posts the
+        // grid's path crosses aslant.
         let mut measure = |p: DVec2| {
-            let (l, r) = (span(p, across), span(p, -across));
-            (l + r < GAP_MEASURE_M).then(|| (l + r, p + across * (0.5 * (l - r))))
+            let mut near = [None::<DVec2>; 2];
+            for (n, side) in near.iter_mut().zip([dir.perp(), -dir.perp()]) {
+                for k in 0..=SIDE_RAYS {
+                    let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
+                    let u = DVec2::from_angle(turn).rotate(side);
+                    let d = span(p, u);
+                    if d.is_finite() && n.is_none_or(|q: DVec2| d < q.distance(p)) {
+                        *n = Some(p + u * d);
+                    }
+                }
+            }
+            let [Some(l), Some(r)] = near else { return None };
+            let w = l.distance(r);
+            (w < GAP_MEASURE_M && w > 1e-9).then(|| (w, 0.5 * (l + r), (l - r) / w))
         };
-        let mut throat: Option<(f64, DVec2, DVec2)> = None;
+        let mut throat: Option<(f64, DVec2, DVec2, DVec2)> = None;
         let mut run = 0.0;
         for (j, &p) in self.path[k..].iter().enumerate() {
             if j > 0 {
@@ -608,19 +627,20 @@ impl Memory {
             if run > GAP_AXIS_M {
                 break;
             }
-            if let Some((w, m)) = measure(p)
-                && throat.is_none_or(|(best, _, _)| w < best - 1e-9)
+            if let Some((w, m, across)) = measure(p)
+                && throat.is_none_or(|(best, ..)| w < best - 1e-9)
             {
-                throat = Some((w, m, p));
+                throat = Some((w, m, p, across));
             }
         }
-        let (_, centre, at) = throat?;
-        let mut middle = |p: DVec2| measure(p).map(|(_, m)| m);
-        let line = match middle(at + dir * GAP_AXIS_M) {
-            Some(further) if (further - centre).normalize_or_zero().dot(dir) > SAME_LINE_COS => {
+        let (_, centre, at, across) = throat?;
+        // The gap's line is square to the way across it, pointing the way the path goes.
+        let square = if across.perp().dot(dir) >= 0.0 { across.perp() } else { -across.perp() };
+        let line = match measure(at + square * GAP_AXIS_M) {
+            Some((_, further, _)) if (further - centre).normalize_or_zero().dot(square) > SAME_LINE_COS => {
                 (further - centre).normalize()
             }
-            _ => dir,
+            _ => square,
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
         // The agent may stand in the inflation of the gap's posts.
