@@ -552,13 +552,15 @@ impl Memory {
     /// Where an agent at `from` steers for the narrow part of its way ahead (a door, a
     /// corridor): the first point of the path within [`LINE_UP_LOOK_M`] whose cell lies in the
     /// margin of remembered obstacles is the gap's entry (the agent's own spot when it is in
-    /// the gap already), the path over the next [`GAP_AXIS_M`] gives the gap's direction, and
-    /// `span` measures the way across the entry, which puts the gap's line through its middle.
-    /// The agent pursues that line: it aims at the point of the line [`PURSUIT_M`] beyond its
-    /// own projection on it, so it comes onto the line in front of the gap, along it, and
-    /// passes through the middle — steering continuously, never one way and then the other.
-    /// `None` when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is
-    /// not in clear sight over what is remembered.
+    /// the gap already), and over the path's next [`GAP_AXIS_M`] `span` (rays) finds the
+    /// nearest obstacle points on either side of the way: where they are closest together is
+    /// the gap's throat, and the gap's line runs square to them through their middle. The
+    /// agent pursues that line: it aims at the point of the line [`PURSUIT_M`] beyond its own
+    /// projection on it, so it comes onto the line in front of the gap, along it, and passes
+    /// through the middle — steering continuously, never one way and then the other. `None`
+    /// when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is not in
+    /// clear sight (over what is remembered, or, out of the inflation the agent stands in, by
+    /// `reach`).
     fn line_up(
         &self,
         from: DVec2,
