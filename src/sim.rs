@@ -139,6 +139,8 @@ pub struct Agent {
     pub route_m: f64,
     /// Distance to the waypoint goal seeking steers at (infinite when heading for the goal).
     pub aim_m: f64,
+    /// The remembered way goes through a narrow part just ahead, lined up for.
+    pub through_gap: bool,
     /// Closest approach to the goal reachable in a straight line from the last scan, metres.
     pub reachable_goal_distance: f64,
     /// Distance from the goal to the nearest obstacle point the last scan saw, metres.
@@ -401,6 +403,7 @@ impl Simulation {
             heading_to_goal: 0.0,
             route_m: f64::INFINITY,
             aim_m: f64::INFINITY,
+            through_gap: false,
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
             progress: (task.start.position, 0.0),
@@ -483,6 +486,7 @@ impl Simulation {
                 agent.memory.observe(pose.position, &agent.walls, radius, self.params.layout.range);
                 agent.route_m = f64::INFINITY;
                 agent.aim_m = f64::INFINITY;
+                agent.through_gap = false;
                 let range = self.params.layout.range;
                 let margin = agent.controller.params.margin_m;
                 let scan = &agent.scan;
@@ -493,10 +497,15 @@ impl Simulation {
                 let world = &self.world;
                 let scratch = &mut self.scratch;
                 let span = |p: DVec2, d: DVec2| world.ray_cast(p, d, range, scratch).unwrap_or(f64::INFINITY);
-                if let Some(aim) = agent.memory.heading_with(pose.position, sight, span) {
+                let reach = |h: f64| match follow::swept_ahead(scan, h, radius, 0.0, range) {
+                    Some(f) if f < range => f,
+                    _ => f64::INFINITY,
+                };
+                if let Some(aim) = agent.memory.heading_with(pose.position, sight, span, reach) {
                     agent.heading_to_goal = aim.heading;
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;
+                    agent.through_gap = aim.through_gap;
                 }
                 // A way the body has not been able to follow for long may lead through a gap
                 // it does not fit through (the memory closes gaps at the disc's own width; a
@@ -528,6 +537,7 @@ impl Simulation {
             agent.sensed.obstacle_goal_distance = agent.obstacle_goal_distance;
             agent.sensed.route_distance = agent.route_m;
             agent.sensed.aim_distance = agent.aim_m;
+            agent.sensed.through_gap = agent.through_gap;
             agent.sensed.known_obstacles = agent.memory.known();
             agent.sensed.goal_angle = crate::geom::wrap_angle(agent.heading_to_goal - pose.yaw);
             agent.autopilot = agent.controller.command(&agent.sensed, visible, t, &agent.body);

@@ -167,6 +167,12 @@ impl Body for KinematicDisc {
         self.limits.max_turn_rate
     }
 
+    /// The disc keeps its room on both sides: a gap narrower than the disc and its room twice
+    /// over would have it come closer to a side than the room it keeps.
+    fn passage_m(&self) -> f64 {
+        2.0 * (self.limits.radius + self.limits.keep_m.max(0.0))
+    }
+
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome {
         let l = self.limits;
         // The room to keep: the margin, or what there is now when less (so a disc that stands

@@ -328,13 +328,22 @@ impl LayeredController {
         self.last_t_s = t_s;
         self.best_ever = self.best_ever.min(s.goal_distance);
         let (left, right) = (s.sectors[2], s.sectors[0]);
+        // The corridors keep the margin, or half the room there is when the agent stands closer
+        // (a corridor that starts inside the margin would be shut whichever way it went, and
+        // avoidance would hold the agent where it stands; with half the room, a way that
+        // leaves the near obstacle about sideways is open, as the body can take it). Committed to a narrow
+        // part of the remembered way (lined up for it), they are the disc's own: a gap the way
+        // goes through may leave less than the margin to either side, and measured with it,
+        // the gap would look shut and avoidance would turn the agent one way and the other in
+        // front of it.
+        let margin = if s.through_gap { 0.0 } else { p.margin_m.min(0.5 * s.nearest.max(0.0)) };
         // Ahead, what matters is the corridor the disc sweeps (so that it can pass doors
         // barely wider than itself), not the nearest point of a wide sector.
-        let front = swept_ahead(&s.scan, s.heading, s.radius, p.margin_m, s.range).unwrap_or(s.sectors[1]);
+        let front = swept_ahead(&s.scan, s.heading, s.radius, margin, s.range).unwrap_or(s.sectors[1]);
         // Free up to the point steered at (a waypoint of the remembered way, or the goal) is
         // as good as free to the end of the range.
         let aim = s.aim_distance.min(s.goal_distance).min(s.range);
-        let (way, clear_to_aim) = match swept_ahead(&s.scan, s.heading + s.goal_angle, s.radius, p.margin_m, s.range) {
+        let (way, clear_to_aim) = match swept_ahead(&s.scan, s.heading + s.goal_angle, s.radius, margin, s.range) {
             Some(free) if free < aim => (free, false),
             _ => (s.range, true),
         };
@@ -407,6 +416,16 @@ impl LayeredController {
             }
         };
         let mut turn_rate = turn_deg.to_radians();
+        // Shut ahead (the disc cannot go on at all): avoidance has nothing left to steer round,
+        // and weighed against goal seeking it may hold the heading where the two cancel, the
+        // agent standing still for good. Turning on the spot touches nothing, so the agent turns
+        // toward the way, at least as fast as closes the angle in `SHUT_TURN_S`.
+        if side.is_none() && front <= SHUT_M && s.goal_angle.abs() > SHUT_ALIGNED_RAD {
+            let toward_way = s.goal_angle / SHUT_TURN_S;
+            if turn_rate * s.goal_angle.signum() < toward_way.abs() {
+                turn_rate = toward_way;
+            }
+        }
         // Arriving: a goal inside the circle the body turns on is orbited, never reached. When
         // the point aimed at is the goal itself, turn at least as tightly as the circle through
         // it (within_reach slows the body down if it must to make that turn).
@@ -509,6 +528,16 @@ impl LayeredController {
         }
     }
 }
+
+/// The way ahead counts as shut when the disc can go on no farther than this, metres.
+const SHUT_M: f64 = 0.02;
+
+/// Shut ahead, the agent turns toward the way while it is farther off than this, radians (5°).
+const SHUT_ALIGNED_RAD: f64 = 0.087;
+
+/// Shut ahead, the agent turns toward the way at least as fast as closes the angle in this
+/// long, seconds.
+const SHUT_TURN_S: f64 = 0.5;
 
 /// Speed step of the search for a speed at which the body can make a turn, m/s.
 const REACH_SPEED_STEP: f64 = 0.05;

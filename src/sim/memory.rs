@@ -98,6 +98,9 @@ const PURSUIT_M: f64 = 0.6;
 /// Least cosine between the path's direction and the line through two measured middles for
 /// the latter to be the gap's line (30°).
 const SAME_LINE_COS: f64 = 0.866;
+/// Rays over each half turn that find the nearest obstacle point on either side of the way when
+/// a gap is measured.
+const SIDE_RAYS: usize = 12;
 /// Widest way across that counts as a gap to line up for, metres.
 const GAP_MEASURE_M: f64 = 2.0;
 
@@ -113,6 +116,9 @@ pub struct Aim {
     pub remaining_m: f64,
     /// Distance to the waypoint, metres.
     pub waypoint_m: f64,
+    /// The waypoint lines the agent up for a narrow part of the way just ahead (a gap, a door,
+    /// a corridor) that the way goes through ([`Memory::heading_with`]).
+    pub through_gap: bool,
 }
 
 /// The remembered obstacles and the current path to the goal.
@@ -130,9 +136,10 @@ pub struct Memory {
     cells: Vec<u8>,
     /// Marked cells.
     known: usize,
-    /// The cells a marked cell inflates, as offsets from it: whether each is closed, and its
-    /// band of the margin.
-    inflation: Vec<(i64, i64, bool, u8)>,
+    /// The cells a remembered point may inflate, as offsets from its cell.
+    inflation: Vec<(i64, i64)>,
+    /// The agent's radius, metres.
+    radius: f64,
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
@@ -262,24 +269,29 @@ impl Open {
     }
 }
 
-/// The cells a marked cell inflates for a disc of `radius` with a clearance `margin` (cells of
-/// side `c`): closed when its centre lies within the radius of the marked cell's, and in band
-/// [`BANDS`] (innermost) down to 1 across the margin beyond.
-fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64, bool, u8)> {
-    let reach = ((radius + margin) / c).ceil() as i64;
+/// The cells a remembered obstacle point may inflate for a disc of `radius` with a clearance
+/// `margin` (cells of side `c`), as offsets from the point's cell: every cell whose centre may
+/// lie within `radius + margin` of a point somewhere in that cell.
+fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
+    let reach = ((radius + margin) / c).ceil() as i64 + 1;
     let mut out = Vec::new();
     for dy in -reach..=reach {
         for dx in -reach..=reach {
-            let d = ((dx * dx + dy * dy) as f64).sqrt() * c;
+            let d = (((dx.abs() - 1).max(0).pow(2) + (dy.abs() - 1).max(0).pow(2)) as f64).sqrt() * c;
             if d < radius + margin {
-                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
-                let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
-                out.push((dx, dy, d < radius, band));
+                out.push((dx, dy));
             }
         }
     }
     out
 }
+
+/// A cell is closed when its centre lies within the disc's radius less this share of a cell of
+/// a point seen: a gap three quarters of a cell wider than the disc (0.69 m for the 0.6 m disc)
+/// then always keeps a cell centre open across it, however the grid falls, and stays open. A
+/// gap down to a quarter of a cell narrower than the disc may look open; an agent held up
+/// there closes it ([`Memory::close_gaps_ahead`]).
+const CLOSE_GIVE_CELLS: f64 = 0.125;
 
 impl Memory {
     /// An empty memory for an agent of `radius` metres going from `start` to `goal`.
@@ -303,6 +315,7 @@ impl Memory {
             cells: vec![0; nx * ny],
             known: 0,
             inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
+            radius: radius.max(0.0),
             reach_cells,
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
@@ -351,30 +364,44 @@ impl Memory {
         // Cells the path passes keep their world positions; the plan stays valid.
     }
 
-    /// Remembers an obstacle at `p` (in its cell).
+    /// Remembers an obstacle at `p`: its cell is marked, and the cells around are closed or
+    /// dearer by their centres' distance from `p` itself (not from the marked cell's centre,
+    /// which may lie most of a cell away from what was seen).
     fn mark(&mut self, p: DVec2) {
         if !p.is_finite() {
             return;
         }
         let (i, j) = self.cell_of(p);
         let Some(k) = self.index(i, j) else { return };
-        if self.cells[k] & MARKED != 0 {
-            return;
+        let mut changed = self.cells[k] & MARKED == 0;
+        if changed {
+            self.cells[k] |= MARKED;
+            self.known += 1;
         }
-        self.cells[k] |= MARKED;
-        self.known += 1;
-        for &(dx, dy, closed, band) in &self.inflation {
+        let c = self.params.cell_m;
+        let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
+        let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        for &(dx, dy) in &self.inflation {
             let Some(n) = self.index(i + dx, j + dy) else { continue };
-            let cell = &mut self.cells[n];
-            *cell = (*cell & !BAND) | (*cell & BAND).max(band) | if closed { HARD } else { 0 };
+            let d = self.centre(i + dx, j + dy).distance(p);
+            if d >= radius + margin {
+                continue;
+            }
+            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
+            let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
+            let old = self.cells[n];
+            let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+            if cell != old {
+                self.cells[n] = cell;
+                changed = true;
+            }
         }
-        if !self.stale {
-            // Does the new obstacle come near the path?
-            let q = self.centre(i, j);
-            // Off the path's box by more than the distance (and rounding), it is near no point.
+        if changed && !self.stale {
+            // Does what changed come near the path?
             let (lo, hi) = self.path_box;
-            let off = (lo - q).max(q - hi).max_element();
-            if off <= self.stale_m + 1e-9 && self.path.iter().any(|p| p.distance(q) <= self.stale_m) {
+            // Off the path's box by more than the distance (and rounding), it is near no point.
+            let off = (lo - p).max(p - hi).max_element();
+            if off <= self.stale_m + 1e-9 && self.path.iter().any(|q| q.distance(p) <= self.stale_m) {
                 self.stale = true;
             }
         }
@@ -426,17 +453,21 @@ impl Memory {
     /// in sight is left. `None` when the goal cannot be reached over what is remembered (or
     /// the search gives up).
     pub fn heading(&mut self, from: DVec2, sight: impl Fn(f64) -> f64) -> Option<Aim> {
-        self.heading_with(from, sight, |_, _| f64::INFINITY)
+        self.heading_with(from, sight, |_, _| f64::INFINITY, |_| f64::INFINITY)
     }
 
     /// [`Memory::heading`] with `span(p, unit)`, how far the way is free from `p` along `unit`
     /// (the range sensor's measure; infinite when nothing is near), which puts the line a gap
-    /// is entered along through the middle of the gap as measured, not of the grid's cells.
+    /// is entered along through the middle of the gap as measured, not of the grid's cells, and
+    /// `reach(heading)`, how far the bare disc can go straight along an absolute heading now
+    /// (infinite when nothing limits it), which decides whether an agent standing in the
+    /// inflation of a gap's post can go straight onto the gap's line.
     pub fn heading_with(
         &mut self,
         from: DVec2,
         sight: impl Fn(f64) -> f64,
         span: impl FnMut(DVec2, DVec2) -> f64,
+        reach: impl Fn(f64) -> f64,
     ) -> Option<Aim> {
         let near = self
             .path
@@ -459,24 +490,24 @@ impl Memory {
         self.path.drain(..start);
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
-        let waypoint = match self.line_up(from, span) {
-            Some(p) => p,
-            None => self.farthest_waypoint(from, sight),
+        let (waypoint, through_gap) = match self.line_up(from, span, &reach) {
+            Some(p) => (p, true),
+            None => (self.farthest_waypoint(from, sight, &reach), false),
         };
         let remaining: f64 =
             from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
         let to = waypoint - from;
         if to.length() < 1e-9 {
             let to = self.goal - from;
-            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() });
+            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap });
         }
-        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length() })
+        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap })
     }
 
     /// The waypoint: the farthest point of the path within reach that the disc can go straight
     /// to from `from` without touching what is remembered (with the margin if it can), so that
     /// steering toward it never cuts a corner into a wall; else the next point.
-    fn farthest_waypoint(&self, from: DVec2, sight: impl Fn(f64) -> f64) -> DVec2 {
+    fn farthest_waypoint(&self, from: DVec2, sight: impl Fn(f64) -> f64, bare: &impl Fn(f64) -> f64) -> DVec2 {
         let mut along = from.distance(self.path[0]);
         let mut prev = self.path[0];
         let reach = self
@@ -493,7 +524,7 @@ impl Memory {
         // its outer bands. Looked for from the far end: the first roomy point settles it.
         let (mut clear, mut roomy, mut kept) = (None, None, None);
         for &p in self.path[..reach].iter().rev() {
-            let Some(depth) = self.line_depth(from, p) else { continue };
+            let Some(depth) = self.sight_depth(from, p, bare) else { continue };
             clear.get_or_insert(p);
             if depth != 0 && (depth >= BANDS || kept.is_some()) {
                 continue;
@@ -521,14 +552,21 @@ impl Memory {
     /// Where an agent at `from` steers for the narrow part of its way ahead (a door, a
     /// corridor): the first point of the path within [`LINE_UP_LOOK_M`] whose cell lies in the
     /// margin of remembered obstacles is the gap's entry (the agent's own spot when it is in
-    /// the gap already), the path over the next [`GAP_AXIS_M`] gives the gap's direction, and
-    /// `span` measures the way across the entry, which puts the gap's line through its middle.
-    /// The agent pursues that line: it aims at the point of the line [`PURSUIT_M`] beyond its
-    /// own projection on it, so it comes onto the line in front of the gap, along it, and
-    /// passes through the middle — steering continuously, never one way and then the other.
-    /// `None` when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is
-    /// not in clear sight over what is remembered.
-    fn line_up(&self, from: DVec2, mut span: impl FnMut(DVec2, DVec2) -> f64) -> Option<DVec2> {
+    /// the gap already), and over the path's next [`GAP_AXIS_M`] `span` (rays) finds the
+    /// nearest obstacle points on either side of the way: where they are closest together is
+    /// the gap's throat, and the gap's line runs square to them through their middle. The
+    /// agent pursues that line: it aims at the point of the line [`PURSUIT_M`] beyond its own
+    /// projection on it, so it comes onto the line in front of the gap, along it, and passes
+    /// through the middle — steering continuously, never one way and then the other. `None`
+    /// when no gap measured narrower than [`GAP_MEASURE_M`] lies ahead or the point is not in
+    /// clear sight (over what is remembered, or, out of the inflation the agent stands in, by
+    /// `reach`).
+    fn line_up(
+        &self,
+        from: DVec2,
+        mut span: impl FnMut(DVec2, DVec2) -> f64,
+        reach: &impl Fn(f64) -> f64,
+    ) -> Option<DVec2> {
         let mut along = from.distance(self.path[0]);
         let mut entry = None;
         for (k, &p) in self.path.iter().enumerate() {
@@ -558,22 +596,85 @@ impl Memory {
         if dir == DVec2::ZERO || run < 2.0 * self.params.cell_m {
             return None;
         }
-        // The middle of the gap as measured across it, at the entry and (in a corridor) a
-        // little further on: the line through both is the gap's, whatever cells the path takes.
-        let mut middle = |p: DVec2| {
-            let across = dir.perp();
-            let (l, r) = (span(p, across), span(p, -across));
-            (l + r < GAP_MEASURE_M).then(|| p + across * (0.5 * (l - r)))
+        // The middle of the gap as measured across it, at its narrowest over the path's first
+        // [`GAP_AXIS_M`] past the entry (the throat: between two posts the rays across the
+        // entry may pass them both) and (in a corridor) a little further on: the line through
+        // both is the gap's, whatever cells the path takes.
+        // The gap as the range sensor measures it from a point of the way: the nearest
+        // obstacle point on either side of the path (rays over each half turn), the way across
+        // between the two. Rays square to the path alone would miss a thin row of posts the
+        // grid's path crosses aslant.
+        let mut measure = |p: DVec2| {
+            let mut near = [None::<DVec2>; 2];
+            for (n, side) in near.iter_mut().zip([dir.perp(), -dir.perp()]) {
+                for k in 0..=SIDE_RAYS {
+                    let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
+                    let u = DVec2::from_angle(turn).rotate(side);
+                    let d = span(p, u);
+                    if d.is_finite() && n.is_none_or(|q: DVec2| d < q.distance(p)) {
+                        *n = Some(p + u * d);
+                    }
+                }
+            }
+            let [Some(l), Some(r)] = near else { return None };
+            let w = l.distance(r);
+            (w < GAP_MEASURE_M && w > 1e-9).then(|| (w, 0.5 * (l + r), (l - r) / w))
         };
-        let centre = middle(e)?;
-        let line = match middle(e + dir * GAP_AXIS_M) {
-            Some(further) if (further - centre).normalize_or_zero().dot(dir) > SAME_LINE_COS => {
+        let mut throat: Option<(f64, DVec2, DVec2, DVec2)> = None;
+        let mut run = 0.0;
+        for (j, &p) in self.path[k..].iter().enumerate() {
+            if j > 0 {
+                run += self.path[k + j - 1].distance(p);
+            }
+            if run > GAP_AXIS_M {
+                break;
+            }
+            if let Some((w, m, across)) = measure(p)
+                && throat.is_none_or(|(best, ..)| w < best - 1e-9)
+            {
+                throat = Some((w, m, p, across));
+            }
+        }
+        let (_, centre, at, across) = throat?;
+        // The gap's line is square to the way across it, pointing the way the path goes.
+        let square = if across.perp().dot(dir) >= 0.0 { across.perp() } else { -across.perp() };
+        let line = match measure(at + square * GAP_AXIS_M) {
+            Some((_, further, _)) if (further - centre).normalize_or_zero().dot(square) > SAME_LINE_COS => {
                 (further - centre).normalize()
             }
-            _ => dir,
+            _ => square,
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
-        self.line_depth(from, target).map(|_| target)
+        // The agent may stand in the inflation of the gap's posts.
+        self.sight_depth(from, target, &reach).map(|_| target)
+    }
+
+    /// [`Memory::line_depth`] for an agent at `from` that may stand in or beside the inflation
+    /// of what it remembers, where the way out crosses closed cells (as the search lets it, near
+    /// where it stands): a line that crosses closed cells only there, never a remembered
+    /// obstacle, and that the disc, as its sensor shows it now (`reach`, as for
+    /// [`Memory::heading_with`]), goes straight along to `to`, counts as clear, deep in the
+    /// margin.
+    fn sight_depth(&self, from: DVec2, to: DVec2, reach: &impl Fn(f64) -> f64) -> Option<u8> {
+        self.line_depth(from, to).or_else(|| {
+            let d = to - from;
+            (self.escapes(from, to) && reach(d.to_angle()) >= d.length()).then_some(BANDS)
+        })
+    }
+
+    /// Whether the straight line from `a` to `b` crosses closed cells only within the search's
+    /// escape reach of `a`'s cell and none where an obstacle was seen.
+    fn escapes(&self, a: DVec2, b: DVec2) -> bool {
+        let step = 0.5 * self.params.cell_m;
+        let n = (a.distance(b) / step).ceil().max(1.0) as usize;
+        let here = self.cell_of(a);
+        (1..=n).all(|k| {
+            let (i, j) = self.cell_of(a + (b - a) * (k as f64 / n as f64));
+            let Some(c) = self.index(i, j) else { return true };
+            let cell = self.cells[c];
+            let near = (i - here.0).abs().max((j - here.1).abs()) <= self.reach_cells;
+            cell & HARD == 0 || (near && cell & MARKED == 0)
+        })
     }
 
     /// Closes the gaps just ahead of an agent at `from` that has not been able to follow its

@@ -65,6 +65,10 @@ pub struct Sensed {
     /// or the goal itself (infinite when the simulation gives none: the goal then); filled by
     /// the simulation.
     pub aim_distance: f64,
+    /// The remembered way enters a narrow part (a gap, a door, a corridor) just ahead and
+    /// goal seeking steers along its line: the way is committed to (false when the simulation
+    /// gives none); filled by the simulation.
+    pub through_gap: bool,
     /// How many distinct obstacle places the agent has seen so far (grows when it sees
     /// something new); filled by the simulation.
     pub known_obstacles: usize,
@@ -176,6 +180,7 @@ impl World {
         out.goal_distance = position.distance(goal);
         out.route_distance = f64::INFINITY;
         out.aim_distance = f64::INFINITY;
+        out.through_gap = false;
         out.goal_angle = if out.goal_distance > 0.0 { wrap_angle((goal - position).to_angle() - heading) } else { 0.0 };
     }
 }
