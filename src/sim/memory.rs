@@ -119,6 +119,9 @@ const REFILL_M: f64 = 6.0;
 /// Cells added around the known area when the grid grows.
 const GROW_CELLS: i64 = 40;
 
+/// A side of the grid grows by at least its size over this when it grows.
+const GROW_SHARE: i64 = 4;
+
 /// Where goal seeking steers: toward a waypoint on the remembered way.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aim {
@@ -248,10 +251,14 @@ impl Memory {
             return;
         }
         let (nx, ny) = (self.nx as i64, self.ny as i64);
-        let lo_x = (i - GROW_CELLS).min(0);
-        let lo_y = (j - GROW_CELLS).min(0);
-        let hi_x = (i + GROW_CELLS + 1).max(nx);
-        let hi_y = (j + GROW_CELLS + 1).max(ny);
+        // A side grows by a share of the grid as well, so that an agent exploring far from
+        // where it started copies the grid a number of times that grows only with the log of
+        // its size.
+        let (gx, gy) = (GROW_CELLS.max(nx / GROW_SHARE), GROW_CELLS.max(ny / GROW_SHARE));
+        let lo_x = (i - gx).min(0);
+        let lo_y = (j - gy).min(0);
+        let hi_x = (i + gx + 1).max(nx);
+        let hi_y = (j + gy + 1).max(ny);
         let (wx, wy) = ((hi_x - lo_x) as usize, (hi_y - lo_y) as usize);
         let mut cells = vec![0u8; wx * wy];
         for y in 0..ny {
@@ -386,9 +393,8 @@ impl Memory {
             Some(p) => p,
             None => self.farthest_waypoint(from, sight),
         };
-        let remaining: f64 = from.distance(self.path[0])
-            + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>()
-            + self.tail_m;
+        let remaining: f64 =
+            from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>() + self.tail_m;
         let to = waypoint - from;
         if to.length() < 1e-9 {
             let to = self.goal - from;

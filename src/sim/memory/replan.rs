@@ -17,9 +17,6 @@
 //! the same order give the same ways, bit for bit. `g` and `rhs` are stored complemented, so a
 //! fresh grid is zeroed memory and pages the search never reaches are never touched.
 
-use dary_heap::QuaternaryHeap;
-use std::cmp::Reverse;
-
 /// A cell's bit: a ray hit an obstacle in it.
 pub(super) const MARKED: u8 = 0x10;
 
@@ -110,8 +107,106 @@ fn octile(a: (i64, i64), b: (i64, i64)) -> u64 {
     u64::from(UNIT) * dx.max(dy) + (u64::from(DIAGONAL) - u64::from(UNIT)) * dx.min(dy)
 }
 
-/// A queued cell: its key, then its index.
-type Entry = Reverse<(u64, u64, u32)>;
+/// A queued cell: its key, then its index (the order of the queue).
+type Entry = (u64, u64, u32);
+
+/// The queue of inconsistent cells: a binary heap of [`Entry`]s that knows where each cell
+/// is, so a cell is queued once and its key changed or taken out in place.
+#[derive(Debug, Clone, Default)]
+struct Queue {
+    heap: Vec<Entry>,
+    /// One more than each cell's place in the heap (0: not queued).
+    at: Vec<u32>,
+}
+
+impl Queue {
+    fn reset(&mut self, n: usize) {
+        self.heap.clear();
+        self.at = vec![0; n];
+    }
+
+    fn first(&self) -> Option<Entry> {
+        self.heap.first().copied()
+    }
+
+    /// Queues cell `k` with `key`, or moves it to `key` if it is queued.
+    fn set(&mut self, k: u32, key: (u64, u64)) {
+        let e = (key.0, key.1, k);
+        match self.at[k as usize] {
+            0 => {
+                self.heap.push(e);
+                self.at[k as usize] = self.heap.len() as u32;
+                self.up(self.heap.len() - 1);
+            }
+            p => {
+                let i = p as usize - 1;
+                let old = std::mem::replace(&mut self.heap[i], e);
+                if e < old { self.up(i) } else { self.down(i) }
+            }
+        }
+    }
+
+    /// Takes cell `k` out of the queue if it is in it.
+    fn remove(&mut self, k: u32) {
+        let p = std::mem::take(&mut self.at[k as usize]);
+        if p == 0 {
+            return;
+        }
+        let i = p as usize - 1;
+        let last = self.heap.pop().expect("a queued cell is in the heap");
+        if i < self.heap.len() {
+            self.heap[i] = last;
+            self.at[last.2 as usize] = i as u32 + 1;
+            self.up(i);
+            let j = self.at[last.2 as usize] as usize - 1;
+            self.down(j);
+        }
+    }
+
+    fn up(&mut self, mut i: usize) {
+        while i > 0 {
+            let parent = (i - 1) / 2;
+            if self.heap[parent] <= self.heap[i] {
+                break;
+            }
+            self.swap(i, parent);
+            i = parent;
+        }
+    }
+
+    fn down(&mut self, mut i: usize) {
+        loop {
+            let (l, r) = (2 * i + 1, 2 * i + 2);
+            let mut least = i;
+            if l < self.heap.len() && self.heap[l] < self.heap[least] {
+                least = l;
+            }
+            if r < self.heap.len() && self.heap[r] < self.heap[least] {
+                least = r;
+            }
+            if least == i {
+                break;
+            }
+            self.swap(i, least);
+            i = least;
+        }
+    }
+
+    fn swap(&mut self, i: usize, j: usize) {
+        self.heap.swap(i, j);
+        self.at[self.heap[i].2 as usize] = i as u32 + 1;
+        self.at[self.heap[j].2 as usize] = j as u32 + 1;
+    }
+
+    /// The queue of a grown grid, each cell's index changed by `moved`.
+    fn moved(&mut self, n: usize, moved: impl Fn(u32) -> u32) {
+        self.at = vec![0; n];
+        for (i, e) in self.heap.iter_mut().enumerate() {
+            e.2 = moved(e.2);
+            self.at[e.2 as usize] = i as u32 + 1;
+        }
+    }
+}
 
 /// The state of D* Lite over a grid of `nx × ny` cells toward a fixed goal cell.
 #[derive(Debug, Clone, Default)]
@@ -130,7 +225,7 @@ pub(super) struct Replanner {
     g: Vec<u32>,
     /// `!rhs` of each cell.
     rhs: Vec<u32>,
-    open: QuaternaryHeap<Entry>,
+    open: Queue,
     /// Sum of the octile lengths of the agent's moves since the first search.
     km: u64,
     /// Cells whose state changed since the last settling.
@@ -165,7 +260,7 @@ impl Replanner {
         self.ny = ny;
         self.g = vec![0; n];
         self.rhs = vec![0; n];
-        self.open.clear();
+        self.open.reset(n);
         self.changed.clear();
         self.km = 0;
         self.start = start;
@@ -175,7 +270,7 @@ impl Replanner {
         self.ready = true;
         self.set_rhs(self.goal, 0);
         let key = self.key(self.goal);
-        self.open.push(Reverse((key.0, key.1, self.goal as u32)));
+        self.open.set(self.goal as u32, key);
     }
 
     /// Notes that cell `k` changed state (marked, closed or in a deeper band).
@@ -204,9 +299,7 @@ impl Replanner {
             rhs[to..to + old_nx].copy_from_slice(&self.rhs[from..from + old_nx]);
         }
         (self.g, self.rhs) = (g, rhs);
-        let open: Vec<Entry> =
-            std::mem::take(&mut self.open).into_iter().map(|Reverse((a, b, k))| Reverse((a, b, moved(k)))).collect();
-        self.open = open.into();
+        self.open.moved(nx * ny, moved);
         self.changed.iter_mut().for_each(|k| *k = moved(*k));
         self.goal = moved(self.goal as u32) as usize;
         self.target = moved(self.target as u32) as usize;
@@ -262,14 +355,7 @@ impl Replanner {
     }
 
     fn moves<'a>(&self, cells: &'a [u8]) -> Moves<'a> {
-        Moves {
-            cells,
-            nx: self.nx as i64,
-            ny: self.ny as i64,
-            goal: self.goal,
-            start: self.start,
-            escape: self.escape,
-        }
+        Moves { cells, nx: self.nx as i64, ny: self.ny as i64, goal: self.goal, start: self.start, escape: self.escape }
     }
 
     /// The cost of the step from `(x, y)` into cell `m` (at `(mx, my)`), if a way may take it.
@@ -294,16 +380,19 @@ impl Replanner {
         best.min(u64::from(INF)) as u32
     }
 
-    /// Queues cell `k` when it is inconsistent and a way may enter it (or it is being settled).
+    /// Queues cell `k` with its key when it is inconsistent and a way may enter it (or it is
+    /// being settled), and takes it out of the queue otherwise.
     #[inline]
     fn queue(&mut self, moves: &Moves, k: usize) {
         if self.g(k) != self.rhs(k) {
             let (x, y) = self.xy(k);
             if k == self.target || moves.enterable(k, x, y) {
                 let key = self.key(k);
-                self.open.push(Reverse((key.0, key.1, k as u32)));
+                self.open.set(k as u32, key);
+                return;
             }
         }
+        self.open.remove(k as u32);
     }
 
     /// Works out cell `k`'s `rhs` again and queues it if it is inconsistent.
@@ -399,27 +488,24 @@ impl Replanner {
         let moves = self.moves(cells);
         self.update(&moves, t);
         let mut taken = 0usize;
-        while let Some(&Reverse((k1, k2, k))) = self.open.peek() {
+        while let Some((k1, k2, k)) = self.open.first() {
             if (k1, k2) > self.key(t) && self.g(t) == self.rhs(t) {
                 break;
             }
-            self.open.pop();
             let k = k as usize;
             let (gk, rk) = (self.g(k), self.rhs(k));
-            if gk == rk {
-                continue; // settled since it was queued
-            }
+            // Keys queued before the agent moved are lower bounds: bring it up to date first.
             let now = self.key(k);
             if now != (k1, k2) {
-                self.open.push(Reverse((now.0, now.1, k as u32)));
+                self.open.set(k as u32, now);
                 continue;
             }
             taken += 1;
             if taken > budget {
-                self.open.push(Reverse((k1, k2, k as u32)));
                 self.expanded += taken as u64;
                 return None;
             }
+            self.open.remove(k as u32);
             let (x, y) = self.xy(k);
             if gk > rk {
                 // A shorter way: the cells that step into this one may use it.
@@ -458,7 +544,9 @@ impl Replanner {
                         continue;
                     }
                     let p = (py * self.nx as i64 + px) as usize;
-                    if p != self.goal && u64::from(self.rhs(p)) == u64::from(into[usize::from(diagonal)]) + u64::from(gk) {
+                    if p != self.goal
+                        && u64::from(self.rhs(p)) == u64::from(into[usize::from(diagonal)]) + u64::from(gk)
+                    {
                         self.update(&moves, p);
                     }
                 }
@@ -551,6 +639,7 @@ impl Replanner {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use std::cmp::Reverse;
     use std::collections::BinaryHeap;
 
     /// The from-scratch search: Dijkstra from `from` over the same moves, with the agent at
