@@ -117,7 +117,7 @@ const KEPT_M: f64 = 12.0;
 const REFILL_M: f64 = 6.0;
 
 /// Cells added around the known area when the grid grows.
-const GROW_CELLS: i64 = 40;
+const GROW_CELLS: i64 = 48;
 
 /// A side of the grid grows by at least its size over this when it grows.
 const GROW_SHARE: i64 = 4;
@@ -594,6 +594,23 @@ impl Memory {
         // After a search that found no way, the next is likely to find none either: a plain
         // flood over the same moves tells at a fraction of the search's cost.
         if self.failed && !self.planner.reaches(&self.cells, start) {
+            return;
+        }
+        // No way is shorter than the straight octile distance: when the kept way reaches the
+        // goal within the switching allowance of that, no new plan could replace it, and the
+        // search waits for a plan that could.
+        let (gi, gj) = self.cell_of(self.goal);
+        let octile = {
+            let (dx, dy) = ((start.0 - gi).abs() as f64, (start.1 - gj).abs() as f64);
+            self.params.cell_m * (dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy))
+        } as f32;
+        if keep
+            && self.complete
+            && !old.is_empty()
+            && let Some(old_cost) = self.path_cost(from, &old)
+            && old_cost <= octile * (1.0 - 2e-4) * (1.0 + SWITCH_SHARE) + SWITCH_M
+        {
+            self.path = old;
             return;
         }
         let budget = self.params.max_expansions;
