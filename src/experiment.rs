@@ -262,6 +262,9 @@ pub struct Episode {
     /// Every frame the animated character played, when [`StepParameters::record_motion`] is
     /// set (see [`crate::sim::AnimatedBody::motion`]); empty otherwise.
     pub motion: Vec<crate::anim::Pose>,
+    /// Seconds the steps took (the optimum and the record left out), when the run lends a
+    /// stopwatch ([`StepParameters::stopwatch`]): the figure behind a run's stepping rate.
+    pub stepping_s: Option<f64>,
 }
 
 /// Runs task `task_index` of `scenario` (in `world`, the scenario's world) to completion.
@@ -300,9 +303,11 @@ pub fn run_episode_with(
     .map(|p| (p.length - task.goal_radius).max(0.0));
     let mut sim = Simulation::new(world.clone(), params.clone());
     sim.add_agent(task, controller);
+    let started = params.stopwatch.as_ref().map(|w| w.0.now_s());
     while !sim.all_done() {
         sim.step();
     }
+    let stepping_s = params.stopwatch.as_ref().zip(started).map(|(w, t0)| (w.0.now_s() - t0).max(0.0));
     let agent = &sim.agents[0];
     let m = agent.metrics;
     let reached = agent.outcome == Some(Outcome::Reached);
@@ -350,7 +355,7 @@ pub fn run_episode_with(
         refusal: agent.refusal.clone(),
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
-    Episode { record, trail: agent.trail.clone(), motion }
+    Episode { record, trail: agent.trail.clone(), motion, stepping_s }
 }
 
 /// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,

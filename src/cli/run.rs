@@ -185,7 +185,9 @@ pub fn run(args: RunArgs) -> Outcome {
         _ => None,
     };
     let write_failure: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+    let stepping: std::sync::Mutex<f64> = std::sync::Mutex::new(0.0);
     let each = |e: &experiment::Episode| {
+        *stepping.lock().unwrap_or_else(|p| p.into_inner()) += e.stepping_s.unwrap_or(0.0);
         let Some((dir, skeleton, frame_time)) = &motion_out else { return };
         let path = dir.join(format!("episode_{}.bvh", e.record.episode));
         let clip =
@@ -225,11 +227,16 @@ pub fn run(args: RunArgs) -> Outcome {
     let summary = experiment::summarize(&records);
     // The whole batch's throughput (worlds, optima and episodes), for the user on stderr.
     let steps: u64 = records.iter().map(|r| u64::from(r.steps)).sum();
+    // And the steps alone (no world generation, optimum or record), per thread: what a step
+    // of the simulation costs.
+    let stepping = stepping.into_inner().unwrap_or_else(|p| p.into_inner());
     eprintln!(
-        "{} episodes, {steps} agent-steps in {elapsed:.2} s: {:.0} agent-steps/s on {} thread(s)",
+        "{} episodes, {steps} agent-steps in {elapsed:.2} s: {:.0} agent-steps/s on {} thread(s); \
+         the steps alone: {:.0} agent-steps/s per thread",
         records.len(),
         steps as f64 / elapsed.max(1e-9),
-        pool.current_num_threads()
+        pool.current_num_threads(),
+        steps as f64 / stepping.max(1e-9)
     );
     let mut out = BufWriter::new(io::stdout().lock());
     write_records(&mut out, args.format, &summary, &records)?;
