@@ -207,7 +207,8 @@ impl Simulation {
         a.into_pyarray(py)
     }
 
-    /// How each agent's episode ended: `"reached"`, `"timed_out"` or `None` while it runs.
+    /// How each agent's episode ended: `"reached"`, `"timed_out"`, `"refused"` (the body has
+    /// no way round what it cannot pass under or step across) or `None` while it runs.
     #[getter]
     fn outcomes(&self) -> Vec<Option<&'static str>> {
         self.sim
@@ -216,6 +217,7 @@ impl Simulation {
             .map(|a| match a.outcome {
                 Some(Outcome::Reached) => Some("reached"),
                 Some(Outcome::TimedOut) => Some("timed_out"),
+                Some(Outcome::Refused) => Some("refused"),
                 None => None,
             })
             .collect()

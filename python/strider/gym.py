@@ -158,7 +158,9 @@ class NavigateEnv(gymnasium.Env):
             + (bonus if outcome == "reached" else 0.0)
         )
         self._distance = distance
-        return self._observation(), float(reward), outcome == "reached", outcome == "timed_out", self._info()
+        # A refused episode (no way round for the body) ends as a terminal state, not a truncation.
+        terminated = outcome in ("reached", "refused")
+        return self._observation(), float(reward), terminated, outcome == "timed_out", self._info()
 
     def render(self) -> Optional[np.ndarray]:
         if self.render_mode == "rgb_array":
