@@ -72,3 +72,20 @@ def test_driving_by_hand_follows_the_command():
     assert sim.headings[0] != h0
     sim.release()
     sim.step(10)
+
+
+def test_no_way_round_is_refused_with_its_reason(tmp_path):
+    # A corridor, the only way through a closed room, barred at 1.1 m: too low to duck under,
+    # too high to step over.
+    walls = [(4.0, 0.6, 6.0, 0.2), (4.0, -0.6, 6.0, 0.2), (2.5, 3.1, 8.2, 0.2), (2.5, -3.1, 8.2, 0.2),
+             (-1.6, 0.0, 0.2, 6.4), (6.6, 0.0, 0.2, 6.4), (1.1, 1.8, 0.2, 2.4), (1.1, -1.8, 0.2, 2.4)]
+    text = "start -1 0 0\ngoal 6 0\n" + "".join(f"box {x} {y} {w} {h}\n" for x, y, w, h in walls)
+    text += "z_extent 1.1 1.2\nbox 4 0 0.1 1.0\n"
+    world = tmp_path / "barred.txt"
+    world.write_text(text)
+    sim = strider.Simulation(str(world), body="animated")
+    assert sim.done and sim.outcomes == ["refused"]
+    record = strider.run(str(world), body="animated")["episodes"][0]
+    assert not record["reached"] and "underside 1.10 m" in record["refusal"]
+    # The disc, with no third dimension, walks under the bar.
+    assert strider.run(str(world), body="disc")["episodes"][0].get("refusal") is None
