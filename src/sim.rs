@@ -314,6 +314,7 @@ impl Simulation {
                     .map_or(crate::world::obstacle::BODY_TOP_M, |d| d + crate::upper::DUCK_ROOM_M);
                 let step = world.footsteps.step_max_m;
                 let walled = world.clone().walled_below(clear).walled_holes(step);
+                // `World::with_walls` appends the walls after the world's own obstacles.
                 let walls = walled.obstacles()[world.obstacles().len()..]
                     .iter()
                     .map(|o| (o.clone(), wall_reason(o, clear, step)))

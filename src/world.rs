@@ -175,8 +175,8 @@ impl World {
         self.with_walls(ponds, overhead)
     }
 
-    /// The same world with `walls` added to the navigation's obstacles and `overhead` as its
-    /// overhead ones.
+    /// The same world with `walls` added after the navigation's obstacles (in order, so the
+    /// walls are the last obstacles) and `overhead` as its overhead ones.
     fn with_walls(self, walls: Vec<Obstacle>, overhead: Vec<Obstacle>) -> World {
         let mut obstacles = self.obstacles;
         obstacles.extend(walls);

@@ -434,28 +434,23 @@ impl LookAhead<'_> {
         Eligibility::Blocked
     }
 
-    /// Candidate `a`'s feet at `at` keep their room where it starts, where it ends and between
-    /// ([`feet_keep_room`]).
-    fn feet_room(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> bool {
+    /// For choosing when nothing is clear: whether candidate `a`'s feet at `at` keep their room
+    /// where it starts, where it ends and between ([`feet_keep_room`]), and the smallest
+    /// clearance along its path.
+    fn fallback_room(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> (bool, f64) {
         let choice = self.choice(db, at, a);
         let next = db.candidates[at.ending][a].interval;
         self.path.clear();
         let then = at.path(db, choice, self.path);
-        feet_keep_room(self.space, (db.feet_at(next, false), at.ground), (db.feet_at(next, true), then.ground))
-    }
-
-    /// The smallest clearance along candidate `a`'s path at `at` (for choosing when nothing is
-    /// clear).
-    fn path_clearance(&mut self, db: &Database, at: &SwitchPoint, a: usize) -> f64 {
-        self.path.clear();
-        let choice = self.choice(db, at, a);
-        at.path(db, choice, self.path);
+        let feet =
+            feet_keep_room(self.space, (db.feet_at(next, false), at.ground), (db.feet_at(next, true), then.ground));
         let far = self.radius + 1.0;
-        match self.path.as_slice() {
+        let room = match self.path.as_slice() {
             [] => far,
             [p] => self.space.clearance(*p, far),
             pts => pts.windows(2).map(|w| self.space.segment_clearance(w[0], w[1], far)).fold(far, f64::min),
-        }
+        };
+        (feet, room)
     }
 }
 
@@ -533,7 +528,7 @@ impl Chooser for LookAhead<'_> {
                     if moves && self.refused & (1u64 << a.min(63)) != 0 {
                         (false, f64::NEG_INFINITY)
                     } else {
-                        (self.feet_room(db, at, a), self.path_clearance(db, at, a))
+                        self.fallback_room(db, at, a)
                     }
                 })
                 .collect();
