@@ -495,3 +495,24 @@ fn a_bar_with_no_way_round_ends_the_episode_with_the_reason() {
         }
     }
 }
+
+/// The shipped upper-body scenes: the goal reached and no bone of the upper body ever inside an
+/// obstacle (the simulation's own count, over the capsules' axes, `upper_body_collisions`).
+#[test]
+fn the_shipped_upper_body_scenes_keep_every_bone_clear() {
+    let mut failed = Vec::new();
+    for name in ["upper_all", "upper_low_bar", "upper_overhead_bar", "upper_shelves", "upper_table"] {
+        let map = format!("maps/{name}.rhai");
+        let run = strider(&["run", &map, "--format", "json"]);
+        let json: serde_json::Value = serde_json::from_slice(&run.stdout)
+            .unwrap_or_else(|e| panic!("{name}: {e}\n{}", String::from_utf8_lossy(&run.stderr)));
+        let record = &json["episodes"][0];
+        if record["reached"] != true || record["collisions"] != 0 || record["upper_body_collisions"] != 0 {
+            failed.push(format!(
+                "{name}: reached {}, collisions {}, upper body {}",
+                record["reached"], record["collisions"], record["upper_body_collisions"]
+            ));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}

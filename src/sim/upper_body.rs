@@ -145,7 +145,7 @@ impl UpperBodyState {
     /// when the upper body can play it.
     pub fn admits(&mut self, db: &Database, at: &SwitchPoint, a: Choice, speed: f64) -> bool {
         self.speed = speed;
-        match self.plan_for(db, at, a) {
+        match self.plan_for(db, at, a, LOOK_AHEAD_S) {
             Ok(plan) => {
                 self.pending = Some((a, plan));
                 true
@@ -157,15 +157,29 @@ impl UpperBodyState {
         }
     }
 
-    /// The choice `a` was made: its plan plays from the switch (holding the offsets when the
-    /// upper body could not plan it, which only a character with nothing clear does).
+    /// For the last resort, when no choice is admitted: plans choice `a` at `at` over its own
+    /// interval alone (no look-ahead), true when the upper body keeps clear while it plays.
+    pub fn settles(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> bool {
+        match self.plan_for(db, at, a, 0.0) {
+            Ok(plan) => {
+                self.pending = Some((a, plan));
+                true
+            }
+            Err(_) => false,
+        }
+    }
+
+    /// The choice `a` was made: its plan plays from the switch. A choice nothing admitted (the
+    /// last resort) plays the plan over its own interval if [`UpperBodyState::settles`] found
+    /// one — the waist and arms still move out of what the interval brings near — and holds
+    /// the offsets only where even that failed.
     pub fn end_choice(&mut self, db: &Database, at: &SwitchPoint, a: Choice) {
         if self.refused.is_some() {
             self.figures.refused_steps += 1;
         }
         let plan = match self.pending.take() {
             Some((b, plan)) if b == a => plan,
-            _ => self.plan_for(db, at, a).unwrap_or_else(|_| Plan::hold(self.start, self.h)),
+            _ => self.plan_for(db, at, a, LOOK_AHEAD_S).unwrap_or_else(|_| Plan::hold(self.start, self.h)),
         };
         self.next = Some(plan);
     }
@@ -217,9 +231,10 @@ impl UpperBodyState {
         f.inside = inside;
     }
 
-    fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> Result<Plan, Refusal> {
+    /// Plans choice `a` at `at` over its interval and `look_ahead_s` seconds more.
+    fn plan_for(&mut self, db: &Database, at: &SwitchPoint, a: Choice, look_ahead_s: f64) -> Result<Plan, Refusal> {
         let started = self.clock.as_ref().map(|c| c.0.now_s());
-        let own = at.poses(db, a, LOOK_AHEAD_S, self.speed, &mut self.poses);
+        let own = at.poses(db, a, look_ahead_s, self.speed, &mut self.poses);
         if let Some(t) = &self.terrain {
             for p in &mut self.poses {
                 p.root.z += t.height(DVec2::new(p.root.x, p.root.y));
