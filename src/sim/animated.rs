@@ -536,13 +536,18 @@ impl Chooser for LookAhead<'_> {
             let mut ranked: Vec<usize> = (0..cands.len()).collect();
             ranked.sort_by(|&x, &y| key(y).0.cmp(&key(x).0).then(key(y).1.total_cmp(&key(x).1)).then(x.cmp(&y)));
             // The first in that order over whose own interval the upper body keeps clear, else
-            // the first.
+            // the first — never giving up the feet's room for it.
             let settles = |a: usize, this: &mut Self| {
                 let choice = this.choice(db, at, a);
                 this.upper.as_mut().is_none_or(|(u, _)| u.settles(db, at, choice))
             };
             let first = ranked.first().copied().unwrap_or(0);
-            ranked.into_iter().find(|&a| key(a).1 > f64::NEG_INFINITY && settles(a, self)).unwrap_or(first)
+            let feet = key(first).0;
+            ranked
+                .into_iter()
+                .take_while(|&a| key(a).0 == feet)
+                .find(|&a| key(a).1 > f64::NEG_INFINITY && settles(a, self))
+                .unwrap_or(first)
         });
         // Held: something the character wanted was blocked by obstacles, and it stands still
         // instead (turning on the spot is doing something about it).
