@@ -57,6 +57,8 @@ pub const ARM_STEP_DEG: f64 = 4.0;
 pub const ARM_RANGE_DEG: [(f64, f64); 4] = [(-60.0, 100.0), (-12.0, 80.0), (-60.0, 60.0), (-20.0, 120.0)];
 /// Room every capsule keeps from the obstacles, metres.
 pub const MARGIN_M: f64 = 0.005;
+/// Room the axis of every bone of the legs keeps from the obstacles over an interval, metres.
+pub const LEG_ROOM_M: f64 = 0.01;
 /// How far past the interval's end the planner looks ahead, seconds.
 pub const LOOK_AHEAD_S: f64 = 1.0;
 /// Nodes one part's search may try before giving up.
@@ -72,6 +74,9 @@ pub enum Refusal {
     Waist,
     /// An arm (0 left, 1 right) found none, with the waist's plan.
     Arm(usize),
+    /// The legs' motion (the database's, cross-fade included, which no offset of the upper
+    /// body changes) carries a bone of a leg into an obstacle.
+    Legs,
 }
 
 impl fmt::Display for Refusal {
@@ -80,6 +85,7 @@ impl fmt::Display for Refusal {
             Refusal::Waist => write!(f, "the waist cannot bend or twist clear of the obstacles"),
             Refusal::Arm(0) => write!(f, "the left arm cannot keep clear of the obstacles"),
             Refusal::Arm(_) => write!(f, "the right arm cannot keep clear of the obstacles"),
+            Refusal::Legs => write!(f, "a leg would step into an obstacle"),
         }
     }
 }
@@ -469,6 +475,18 @@ impl UpperPlanner {
                 k_max = k - 1;
                 break;
             }
+        }
+        // The legs play the database's motion over the interval: a bone of a leg that would go
+        // into something (deeper than it starts, if it starts there) refuses the interval, as no
+        // plan of the upper body changes it.
+        let legs_room = |k: usize, caps: &mut Vec<(Part, Capsule)>| {
+            self.body.place(&s.frames[k], &UpperConfig::default(), Parts::Legs, caps);
+            caps.iter_mut().for_each(|(_, c)| c.radius = 0.0);
+            solids.clearance(caps, &s.near[k], LEG_ROOM_M)
+        };
+        let legs_need = legs_room(0, &mut s.caps).min(LEG_ROOM_M) - 1e-9;
+        if (1..own).any(|k| s.crowded[k] && legs_room(k, &mut s.caps) < legs_need) {
+            return Err(Refusal::Legs);
         }
         let k_min = own - 1;
         let waist_lattice = Lattice::<2>::new(
