@@ -536,18 +536,20 @@ impl Chooser for LookAhead<'_> {
             let mut ranked: Vec<usize> = (0..cands.len()).collect();
             ranked.sort_by(|&x, &y| key(y).0.cmp(&key(x).0).then(key(y).1.total_cmp(&key(x).1)).then(x.cmp(&y)));
             // The first in that order over whose own interval the upper body keeps clear, else
-            // the first — never giving up the feet's room for it.
-            let settles = |a: usize, this: &mut Self| {
-                let choice = this.choice(db, at, a);
-                this.upper.as_mut().is_none_or(|(u, _)| u.settles(db, at, choice))
-            };
+            // the one whose upper body, held, keeps the most room — never giving up the feet's
+            // room for it.
             let first = ranked.first().copied().unwrap_or(0);
             let feet = key(first).0;
-            ranked
-                .into_iter()
-                .take_while(|&a| key(a).0 == feet)
-                .find(|&a| key(a).1 > f64::NEG_INFINITY && settles(a, self))
-                .unwrap_or(first)
+            let mut least_bad = (first, f64::NEG_INFINITY);
+            for a in ranked.into_iter().take_while(|&a| key(a).0 == feet && key(a).1 > f64::NEG_INFINITY) {
+                let choice = self.choice(db, at, a);
+                match self.upper.as_mut().map_or(Ok(()), |(u, _)| u.settles(db, at, choice)) {
+                    Ok(()) => return a,
+                    Err(room) if room > least_bad.1 => least_bad = (a, room),
+                    Err(_) => {}
+                }
+            }
+            least_bad.0
         });
         // Held: something the character wanted was blocked by obstacles, and it stands still
         // instead (turning on the spot is doing something about it).

@@ -14,7 +14,7 @@ use std::sync::Arc;
 use glam::DVec2;
 
 use super::footing::StopwatchHandle;
-use crate::anim::body::{Part, UpperBody, UpperConfig};
+use crate::anim::body::{Part, Parts, UpperBody, UpperConfig};
 use crate::anim::player::{Choice, SwitchPoint};
 use crate::anim::{Database, Pose, Skeleton};
 use crate::geom::Capsule;
@@ -158,14 +158,26 @@ impl UpperBodyState {
     }
 
     /// For the last resort, when no choice is admitted: plans choice `a` at `at` over its own
-    /// interval alone (no look-ahead), true when the upper body keeps clear while it plays.
-    pub fn settles(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> bool {
+    /// interval alone (no look-ahead). `Ok` when the upper body keeps clear while it plays (the
+    /// plan is kept for the choice); else the least clearance of the upper body over the
+    /// interval with the offsets held, metres, for choosing the least bad (minus infinity when
+    /// the legs would step into something).
+    pub fn settles(&mut self, db: &Database, at: &SwitchPoint, a: Choice) -> Result<(), f64> {
         match self.plan_for(db, at, a, 0.0) {
             Ok(plan) => {
                 self.pending = Some((a, plan));
-                true
+                Ok(())
             }
-            Err(_) => false,
+            // Legs that would step into something are the worst of all.
+            Err(Refusal::Legs) => Err(f64::NEG_INFINITY),
+            Err(_) => {
+                let (body, caps, near) = (self.planner.body(), &mut self.caps, &mut self.near);
+                let least = self.poses.iter().fold(f64::INFINITY, |least, p| {
+                    body.place(&body.frame(p), &self.start, Parts::TrunkAndArms, caps);
+                    least.min(self.solids.clearance_near(caps, DVec2::new(p.root.x, p.root.y), 1.0, near))
+                });
+                Err(least)
+            }
         }
     }
 
