@@ -31,8 +31,10 @@
 //!
 //! Invariant: `process` allocates nothing and never panics.
 
+mod batch;
+
 use super::defuzz::{self, Weighted};
-use super::engine::{Activation, Defuzzifier, Engine, EngineError, OutputVariable};
+use super::engine::{Activation, Defuzzifier, Engine, EngineError, InputVariable, OutputVariable};
 use super::norm::{Hedge, SNorm, TNorm};
 use super::rule::{Antecedent, VariableRef};
 use super::term::Term;
@@ -150,6 +152,9 @@ pub struct Inference {
     outs: Vec<CompiledOutput>,
     stack: Vec<f64>,
     order: Vec<usize>,
+    /// How [`Inference::process_columns`] evaluates this engine, and its scratch columns.
+    plan: batch::Plan,
+    scratch: batch::Scratch,
 }
 
 /// How strongly one rule was activated in the last [`Inference::process`].
@@ -359,7 +364,7 @@ impl Inference {
         }
         let fuzzify = props.iter().map(|p| fuzzify_plan(engine, p)).collect();
         let n_rules = rules.len();
-        Ok(Inference {
+        let mut inference = Inference {
             engine: engine.clone(),
             inputs: vec![f64::NAN; engine.inputs.len()],
             outputs: vec![f64::NAN; engine.outputs.len()],
@@ -377,7 +382,11 @@ impl Inference {
             outs,
             stack: Vec::with_capacity(max_depth),
             order: Vec::with_capacity(n_rules),
-        })
+            plan: batch::Plan::default(),
+            scratch: batch::Scratch::default(),
+        };
+        inference.plan = batch::Plan::new(&inference);
+        Ok(inference)
     }
 
     /// The engine this inference runs.
@@ -473,38 +482,21 @@ impl Inference {
             outs,
             stack,
             order,
+            ..
         } = self;
         // Fuzzify: lock-range clamps inputs, then every distinct input proposition is evaluated
         // once. Propositions on outputs are evaluated when a rule reads them.
         for (x, var) in inputs.iter_mut().zip(&engine.inputs) {
-            if var.lock_range && !x.is_nan() {
-                *x = x.clamp(var.minimum, var.maximum);
-            }
+            *x = clamp_input(var, *x);
         }
         for ((value, prop), plan) in prop_values.iter_mut().zip(props.iter()).zip(fuzzify.iter()) {
             if let Fuzzify::Trapezoid { input, a, b, c, d, height } = *plan {
                 *value = trapezoid(inputs.get(input).copied().unwrap_or(f64::NAN), a, b, c, d, height);
             } else if let VariableRef::Input(i) = prop.source {
-                let var = &engine.inputs[i];
-                *value = if !var.enabled {
-                    0.0
-                } else {
-                    let base = match prop.term {
-                        Some(t) if prop.hedges.last() != Some(&Hedge::Any) => {
-                            var.terms[t].term.membership_with(inputs[i], inputs)
-                        }
-                        _ => f64::NAN,
-                    };
-                    apply_hedges(&prop.hedges, base)
-                };
+                *value = input_proposition(engine, prop, i, inputs);
             }
         }
-        for out in outs.iter_mut() {
-            out.activated.clear();
-            out.raw.clear();
-            out.unbounded = false;
-            out.slot_pos.fill(usize::MAX);
-        }
+        start_step(outs);
         previous.copy_from_slice(outputs);
         // Rules, block by block. General activation fires rule by rule, so a rule reading an
         // output sees the rules before it; the other methods select among all degrees first.
@@ -515,41 +507,7 @@ impl Inference {
                 fired[range].fill(false);
                 continue;
             }
-            let trigger = |i: usize, degree: f64, outs: &mut Vec<CompiledOutput>| {
-                for c in &conclusions[rules[i].conclusions.clone()] {
-                    let var = &engine.outputs[c.output];
-                    if var.enabled {
-                        let new = (c.term, block.implication, apply_hedges(&c.hedges, degree));
-                        let out = &mut outs[c.output];
-                        out.raw.push(new);
-                        let unit = (0.0..=1.0).contains(&new.2);
-                        out.unbounded |= !unit;
-                        if out.grouped && unit {
-                            // The first in-range entry of this term and implication, as in
-                            // `record_activation`, found through its slot.
-                            match out.slot_pos.get(c.slot).copied() {
-                                Some(k) if k < out.activated.len() => {
-                                    let e = &mut out.activated[k];
-                                    if new.2 > e.2 {
-                                        e.2 = new.2;
-                                    }
-                                }
-                                _ => {
-                                    if let Some(k) = out.slot_pos.get_mut(c.slot) {
-                                        *k = out.activated.len();
-                                    }
-                                    out.activated.push(new);
-                                }
-                            }
-                        } else if out.grouped {
-                            out.activated.push(new);
-                        } else {
-                            record_activation(&mut out.activated, var, new);
-                        }
-                    }
-                }
-            };
-            let load = |p: u32, outs: &Vec<CompiledOutput>| -> f64 {
+            let load = |p: u32, outs: &[CompiledOutput]| -> f64 {
                 let p = p as usize;
                 match props[p].source {
                     VariableRef::Input(_) => prop_values[p],
@@ -559,91 +517,190 @@ impl Inference {
             let general = block.activation == Activation::General;
             for i in range.clone() {
                 let rule = &rules[i];
-                let value = match &rule.antecedent {
-                    Condition::Chain { props: chain, and } => {
-                        let chain = &chains[chain.clone()];
-                        let mut acc = chain.first().map_or(f64::NAN, |&p| load(p, outs));
-                        for &p in chain.iter().skip(1) {
-                            let b = load(p, outs);
-                            acc = if *and {
-                                combine(acc, b, |a, b| block.conjunction.apply(a, b))
-                            } else {
-                                combine(acc, b, |a, b| block.disjunction.apply(a, b))
-                            };
-                        }
-                        acc
-                    }
-                    Condition::Program => {
-                        stack.clear();
-                        for op in &program[rule.program.clone()] {
-                            let v = match *op {
-                                Op::Load(p) => load(p, outs),
-                                Op::And => {
-                                    let b = stack.pop().unwrap_or(f64::NAN);
-                                    let a = stack.pop().unwrap_or(f64::NAN);
-                                    combine(a, b, |a, b| block.conjunction.apply(a, b))
-                                }
-                                Op::Or => {
-                                    let b = stack.pop().unwrap_or(f64::NAN);
-                                    let a = stack.pop().unwrap_or(f64::NAN);
-                                    combine(a, b, |a, b| block.disjunction.apply(a, b))
-                                }
-                            };
-                            stack.push(v);
-                        }
-                        stack.pop().unwrap_or(f64::NAN)
-                    }
-                };
+                let value = antecedent(rule, block, chains, program, stack, |p| load(p, outs));
                 degrees[i] = rule.weight * value;
                 if general {
                     fired[i] = degrees[i] > FIRING_THRESHOLD;
                     if fired[i] {
-                        trigger(i, degrees[i], outs);
+                        trigger(engine, &conclusions[rule.conclusions.clone()], block.implication, degrees[i], outs);
                     }
                 }
             }
             if !general {
                 select_rules(block.activation, &mut degrees[range.clone()], &mut fired[range.clone()], order);
                 for i in range.filter(|&i| fired[i]) {
-                    trigger(i, degrees[i], outs);
+                    trigger(engine, &conclusions[rules[i].conclusions.clone()], block.implication, degrees[i], outs);
                 }
             }
         }
-        // Defuzzify.
-        for (o, var) in engine.outputs.iter().enumerate() {
-            if !var.enabled {
-                continue;
+        defuzzify(engine, outs, inputs, outputs, previous, |_| true);
+    }
+}
+
+/// `x` clamped to the range of `var` under lock-range (NaN stays NaN).
+#[inline]
+fn clamp_input(var: &InputVariable, x: f64) -> f64 {
+    if var.lock_range && !x.is_nan() { x.clamp(var.minimum, var.maximum) } else { x }
+}
+
+/// Degree of `prop` on input `i` (a disabled input gives 0) through the term's own membership
+/// and the hedges.
+fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64]) -> f64 {
+    let var = &engine.inputs[i];
+    if !var.enabled {
+        return 0.0;
+    }
+    let base = match prop.term {
+        Some(t) if prop.hedges.last() != Some(&Hedge::Any) => var.terms[t].term.membership_with(inputs[i], inputs),
+        _ => f64::NAN,
+    };
+    apply_hedges(&prop.hedges, base)
+}
+
+/// Forgets the activations of the previous step.
+fn start_step(outs: &mut [CompiledOutput]) {
+    for out in outs.iter_mut() {
+        out.activated.clear();
+        out.raw.clear();
+        out.unbounded = false;
+        out.slot_pos.fill(usize::MAX);
+    }
+}
+
+/// The degree of `rule`'s antecedent, its propositions read through `load`.
+#[inline]
+fn antecedent(
+    rule: &CompiledRule,
+    block: &CompiledBlock,
+    chains: &[u32],
+    program: &[Op],
+    stack: &mut Vec<f64>,
+    load: impl Fn(u32) -> f64,
+) -> f64 {
+    match &rule.antecedent {
+        Condition::Chain { props: chain, and } => {
+            let chain = &chains[chain.clone()];
+            let mut acc = chain.first().map_or(f64::NAN, |&p| load(p));
+            for &p in chain.iter().skip(1) {
+                let b = load(p);
+                acc = if *and {
+                    combine(acc, b, |a, b| block.conjunction.apply(a, b))
+                } else {
+                    combine(acc, b, |a, b| block.disjunction.apply(a, b))
+                };
             }
-            let out = &mut outs[o];
-            let value = if out.activated.is_empty() {
-                None
-            } else {
-                match var.defuzzifier {
-                    None => None,
-                    Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
-                        let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
-                        // Sixteen activations at a time from the stack, summed in order.
-                        let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
-                        let mut acc = (0.0, 0.0);
-                        for chunk in out.activated.chunks(list.len()) {
-                            for (slot, a) in list.iter_mut().zip(chunk) {
-                                *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
-                            }
-                            acc = defuzz::weighted_fold(kind, &list[..chunk.len()], inputs, acc);
-                        }
-                        Some(defuzz::weighted_result(acc, sum_only))
+            acc
+        }
+        Condition::Program => {
+            stack.clear();
+            for op in &program[rule.program.clone()] {
+                let v = match *op {
+                    Op::Load(p) => load(p),
+                    Op::And => {
+                        let b = stack.pop().unwrap_or(f64::NAN);
+                        let a = stack.pop().unwrap_or(f64::NAN);
+                        combine(a, b, |a, b| block.conjunction.apply(a, b))
                     }
-                    Some(d) => {
-                        if var.aggregation.is_none() && out.activated.len() > 1 {
-                            None
-                        } else {
-                            Some(out.aggregate_and_defuzzify(&d, var))
-                        }
+                    Op::Or => {
+                        let b = stack.pop().unwrap_or(f64::NAN);
+                        let a = stack.pop().unwrap_or(f64::NAN);
+                        combine(a, b, |a, b| block.disjunction.apply(a, b))
+                    }
+                };
+                stack.push(v);
+            }
+            stack.pop().unwrap_or(f64::NAN)
+        }
+    }
+}
+
+/// Records the `conclusions` of a rule that fired with `degree` on their (enabled) outputs.
+fn trigger(
+    engine: &Engine,
+    conclusions: &[CompiledConclusion],
+    implication: TNorm,
+    degree: f64,
+    outs: &mut [CompiledOutput],
+) {
+    for c in conclusions {
+        let var = &engine.outputs[c.output];
+        if !var.enabled {
+            continue;
+        }
+        let new = (c.term, implication, apply_hedges(&c.hedges, degree));
+        let out = &mut outs[c.output];
+        out.raw.push(new);
+        let unit = (0.0..=1.0).contains(&new.2);
+        out.unbounded |= !unit;
+        if out.grouped && unit {
+            // The first in-range entry of this term and implication, as in
+            // `record_activation`, found through its slot.
+            match out.slot_pos.get(c.slot).copied() {
+                Some(k) if k < out.activated.len() => {
+                    let e = &mut out.activated[k];
+                    if new.2 > e.2 {
+                        e.2 = new.2;
                     }
                 }
-            };
-            outputs[o] = finish_output(var, value, previous[o]);
+                _ => {
+                    if let Some(k) = out.slot_pos.get_mut(c.slot) {
+                        *k = out.activated.len();
+                    }
+                    out.activated.push(new);
+                }
+            }
+        } else if out.grouped {
+            out.activated.push(new);
+        } else {
+            record_activation(&mut out.activated, var, new);
         }
+    }
+}
+
+/// Defuzzifies the enabled outputs `wanted` accepts from the activations recorded this step
+/// into `outputs` (an output with none, or an undefined result, falls back as
+/// [`finish_output`] says).
+fn defuzzify(
+    engine: &Engine,
+    outs: &mut [CompiledOutput],
+    inputs: &[f64],
+    outputs: &mut [f64],
+    previous: &[f64],
+    wanted: impl Fn(usize) -> bool,
+) {
+    for (o, var) in engine.outputs.iter().enumerate() {
+        if !var.enabled || !wanted(o) {
+            continue;
+        }
+        let out = &mut outs[o];
+        let value = if out.activated.is_empty() {
+            None
+        } else {
+            match var.defuzzifier {
+                None => None,
+                Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) => {
+                    let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
+                    // Sixteen activations at a time from the stack, summed in order.
+                    let mut list = [Weighted { term: &var.terms[0].term, degree: 0.0 }; 16];
+                    let mut acc = (0.0, 0.0);
+                    for chunk in out.activated.chunks(list.len()) {
+                        for (slot, a) in list.iter_mut().zip(chunk) {
+                            *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
+                        }
+                        acc = defuzz::weighted_fold(kind, &list[..chunk.len()], inputs, acc);
+                    }
+                    Some(defuzz::weighted_result(acc, sum_only))
+                }
+                Some(d) => {
+                    if var.aggregation.is_none() && out.activated.len() > 1 {
+                        None
+                    } else {
+                        Some(out.aggregate_and_defuzzify(&d, var))
+                    }
+                }
+            }
+        };
+        outputs[o] = finish_output(var, value, previous[o]);
     }
 }
 
