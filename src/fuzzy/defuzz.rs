@@ -55,13 +55,9 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
         | Defuzzifier::LargestOfMaximum { .. }
         | Defuzzifier::MeanOfMaximum { .. } => {
             // Candidates: every sample at the (exact) global maximum, which must be positive.
-            let mut y_max = f64::NEG_INFINITY;
-            for &y in mu {
-                if y.is_nan() {
-                    return f64::NAN;
-                }
-                y_max = y_max.max(y);
-            }
+            let Some(y_max) = largest(mu) else {
+                return f64::NAN;
+            };
             if !(y_max > 0.0) {
                 return f64::NAN;
             }
@@ -84,6 +80,27 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
         }
         Defuzzifier::WeightedAverage { .. } | Defuzzifier::WeightedSum { .. } => f64::NAN,
     }
+}
+
+/// The largest of `ys`, or `None` when one is NaN. Searched in four independent lanes (the
+/// maximum of numbers does not depend on their order; `±0` may come out either way, which the
+/// callers, looking for a positive maximum, do not see).
+fn largest(ys: &[f64]) -> Option<f64> {
+    let (chunks, tail) = ys.as_chunks::<4>();
+    let mut top = [f64::NEG_INFINITY; 4];
+    let mut nan = false;
+    for chunk in chunks {
+        for j in 0..4 {
+            nan |= chunk[j].is_nan();
+            top[j] = if chunk[j] > top[j] { chunk[j] } else { top[j] };
+        }
+    }
+    for &y in tail {
+        nan |= y.is_nan();
+        top[0] = if y > top[0] { y } else { top[0] };
+    }
+    let best = top.into_iter().fold(f64::NEG_INFINITY, |a, b| if b > a { b } else { a });
+    if nan { None } else { Some(best) }
 }
 
 /// Centre of area of the samples: `Σ μᵢ·xᵢ / Σ μᵢ`.

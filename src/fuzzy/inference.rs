@@ -130,6 +130,8 @@ struct CompiledOutput {
     plain: bool,
     /// `resolution` zeros: the row of an absent term.
     zeros: Vec<f64>,
+    /// `resolution` values of scratch: an implied term.
+    implied: Vec<f64>,
 }
 
 /// A compiled engine with its state (input values, output values, rule activations).
@@ -806,6 +808,7 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
         xs: (0..resolution).map(|i| defuzz::sample_x(var.minimum, var.maximum, resolution, i)).collect(),
         plain: samples.iter().all(|s| s.is_finite() && *s >= 0.0),
         zeros: vec![0.0; resolution],
+        implied: vec![0.0; resolution],
         samples,
     }
 }
@@ -857,9 +860,11 @@ impl CompiledOutput {
                 (TNorm::Minimum, SNorm::Maximum) => max_into(mu, row, d, |d, s| if d < s { d } else { s }),
                 (TNorm::AlgebraicProduct, SNorm::Maximum) => max_into(mu, row, d, |d, s| d * s),
                 (imp, agg) => {
-                    for (m, &s) in mu.iter_mut().zip(row) {
-                        *m = agg.apply(*m, imp.apply(d, s));
-                    }
+                    // The implied term first, then folded in: two loops, each with its norm
+                    // fixed, so that both run in vector registers.
+                    let implied = &mut self.implied[..mu.len()];
+                    imply_into(implied, row, d, imp);
+                    aggregate_into(mu, implied, agg);
                 }
             }
         }
@@ -953,6 +958,46 @@ impl CompiledOutput {
         }
         let (area, moment) = sums(mu, xs);
         moment / area
+    }
+}
+
+/// `out[i] = imp(d, row[i])`, one loop per T-norm.
+fn imply_into(out: &mut [f64], row: &[f64], d: f64, imp: TNorm) {
+    #[inline(always)]
+    fn each(out: &mut [f64], row: &[f64], f: impl Fn(f64) -> f64) {
+        for (o, &s) in out.iter_mut().zip(row) {
+            *o = f(s);
+        }
+    }
+    match imp {
+        TNorm::Minimum => each(out, row, |s| TNorm::Minimum.apply(d, s)),
+        TNorm::AlgebraicProduct => each(out, row, |s| TNorm::AlgebraicProduct.apply(d, s)),
+        TNorm::BoundedDifference => each(out, row, |s| TNorm::BoundedDifference.apply(d, s)),
+        TNorm::DrasticProduct => each(out, row, |s| TNorm::DrasticProduct.apply(d, s)),
+        TNorm::EinsteinProduct => each(out, row, |s| TNorm::EinsteinProduct.apply(d, s)),
+        TNorm::HamacherProduct => each(out, row, |s| TNorm::HamacherProduct.apply(d, s)),
+        TNorm::NilpotentMinimum => each(out, row, |s| TNorm::NilpotentMinimum.apply(d, s)),
+    }
+}
+
+/// `mu[i] = agg(mu[i], ys[i])`, one loop per S-norm.
+fn aggregate_into(mu: &mut [f64], ys: &[f64], agg: SNorm) {
+    #[inline(always)]
+    fn each(mu: &mut [f64], ys: &[f64], f: impl Fn(f64, f64) -> f64) {
+        for (m, &y) in mu.iter_mut().zip(ys) {
+            *m = f(*m, y);
+        }
+    }
+    match agg {
+        SNorm::Maximum => each(mu, ys, |m, y| SNorm::Maximum.apply(m, y)),
+        SNorm::AlgebraicSum => each(mu, ys, |m, y| SNorm::AlgebraicSum.apply(m, y)),
+        SNorm::BoundedSum => each(mu, ys, |m, y| SNorm::BoundedSum.apply(m, y)),
+        SNorm::DrasticSum => each(mu, ys, |m, y| SNorm::DrasticSum.apply(m, y)),
+        SNorm::EinsteinSum => each(mu, ys, |m, y| SNorm::EinsteinSum.apply(m, y)),
+        SNorm::HamacherSum => each(mu, ys, |m, y| SNorm::HamacherSum.apply(m, y)),
+        SNorm::NilpotentMaximum => each(mu, ys, |m, y| SNorm::NilpotentMaximum.apply(m, y)),
+        SNorm::NormalizedSum => each(mu, ys, |m, y| SNorm::NormalizedSum.apply(m, y)),
+        SNorm::UnboundedSum => each(mu, ys, |m, y| SNorm::UnboundedSum.apply(m, y)),
     }
 }
 

@@ -133,9 +133,7 @@ impl Inference {
             let values = &mut s.props[p * CHUNK..p * CHUNK + n];
             match (*plan, prop.source) {
                 (Fuzzify::Trapezoid { input, a, b, c, d, height }, _) => {
-                    for (v, &x) in values.iter_mut().zip(&s.x[input * CHUNK..input * CHUNK + n]) {
-                        *v = trapezoid(x, a, b, c, d, height);
-                    }
+                    trapezoid_column(&s.x[input * CHUNK..input * CHUNK + n], values, [a, b, c, d], height);
                 }
                 (Fuzzify::General, VariableRef::Input(i)) => {
                     for (k, v) in values.iter_mut().enumerate() {
@@ -207,10 +205,9 @@ impl Inference {
                 for ((((sum, weight), &d), &h), &z) in
                     sum.iter_mut().zip(weights.iter_mut()).zip(degrees).zip(hedged.iter()).zip(z.iter())
                 {
-                    if d > FIRING_THRESHOLD {
-                        *sum += h * z;
-                        *weight += h;
-                    }
+                    let fired = d > FIRING_THRESHOLD;
+                    *sum = if fired { *sum + h * z } else { *sum };
+                    *weight = if fired { *weight + h } else { *weight };
                 }
             }
             let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
@@ -284,6 +281,20 @@ impl Scratch {
         for v in [&mut self.sum, &mut self.weights, &mut self.hedged, &mut self.z] {
             v.resize(CHUNK, 0.0);
         }
+    }
+}
+
+/// `values[k] = trapezoid(xs[k], a, b, c, d, height)` (the scalar evaluation's formula): every
+/// branch computed and one selected, so that the loop runs in vector registers.
+fn trapezoid_column(xs: &[f64], values: &mut [f64], [a, b, c, d]: [f64; 4], height: f64) {
+    for (v, &x) in values.iter_mut().zip(xs) {
+        let rise = (x - a) / (b - a);
+        let fall = (d - x) / (d - c);
+        let slope = if x < b { rise } else { fall };
+        let top = (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c);
+        let y = if top { 1.0 } else { slope };
+        let y = if x < a || x > d { 0.0 } else { y };
+        *v = if x.is_nan() { f64::NAN } else { height * y };
     }
 }
 
