@@ -32,17 +32,22 @@ fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
     }
 }
 
+/// Input `in{i}` on `[-5, 5]` with two to `2 + extra` random terms.
+fn random_input(rng: &mut ChaCha8Rng, i: usize, extra: f64) -> InputVariable {
+    let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
+    for t in 0..2 + (unit(rng) * extra) as usize {
+        v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
+    }
+    v
+}
+
 /// A random valid Mamdani/Larsen-style engine with integral outputs, or a Takagi-Sugeno one.
 fn random_engine(seed: u64) -> Engine {
     let rng = &mut stream(seed, 0, 0);
     let mut e = Engine::new("random");
     let n_in = 1 + (unit(rng) * 3.0) as usize;
     for i in 0..n_in {
-        let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
-        for t in 0..2 + (unit(rng) * 3.0) as usize {
-            v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
-        }
-        e.inputs.push(v);
+        e.inputs.push(random_input(rng, i, 3.0));
     }
     let sugeno = unit(rng) < 0.25;
     let n_out = 1 + (unit(rng) * 2.0) as usize;
@@ -378,11 +383,8 @@ fn sugeno_engine(seed: u64) -> Engine {
     let mut e = Engine::new("sugeno");
     let n_in = 1 + (unit(rng) * 3.0) as usize;
     for i in 0..n_in {
-        let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
+        let mut v = random_input(rng, i, 4.0);
         v.lock_range = unit(rng) < 0.3;
-        for t in 0..2 + (unit(rng) * 4.0) as usize {
-            v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
-        }
         e.inputs.push(v);
     }
     let mut block = RuleBlock::mamdani("rules");

@@ -31,8 +31,6 @@
 //!
 //! Invariant: `process` allocates nothing and never panics.
 
-mod batch;
-
 use super::defuzz::{self, Weighted};
 use super::engine::{Activation, Defuzzifier, Engine, EngineError, InputVariable, OutputVariable};
 use super::norm::{Hedge, SNorm, TNorm};
@@ -43,15 +41,15 @@ use super::term::Term;
 pub const FIRING_THRESHOLD: f64 = 0.0;
 
 #[derive(Debug, Clone, PartialEq)]
-struct Prop {
-    source: VariableRef,
-    term: Option<usize>,
-    hedges: Vec<Hedge>,
+pub(super) struct Prop {
+    pub(super) source: VariableRef,
+    pub(super) term: Option<usize>,
+    pub(super) hedges: Vec<Hedge>,
 }
 
 /// How a proposition on an input is fuzzified.
 #[derive(Debug, Clone, Copy)]
-enum Fuzzify {
+pub(super) enum Fuzzify {
     /// A plain triangle or trapezoid `(a, b, c, d, height)` of an enabled input, no hedges
     /// (a triangle is the trapezoid with `b = c`: both formulas give the same values).
     Trapezoid { input: usize, a: f64, b: f64, c: f64, d: f64, height: f64 },
@@ -60,7 +58,7 @@ enum Fuzzify {
 }
 
 #[derive(Debug, Clone, Copy)]
-enum Op {
+pub(super) enum Op {
     Load(u32),
     And,
     Or,
@@ -69,40 +67,40 @@ enum Op {
 /// A rule's antecedent: most are one proposition or a left-to-right chain of one connective
 /// (`a and b and c`), folded without a stack; others run their postfix program.
 #[derive(Debug, Clone)]
-enum Condition {
+pub(super) enum Condition {
     Chain { props: std::ops::Range<usize>, and: bool },
     Program,
 }
 
 #[derive(Debug, Clone)]
-struct CompiledRule {
-    program: std::ops::Range<usize>,
-    antecedent: Condition,
-    conclusions: std::ops::Range<usize>,
-    weight: f64,
+pub(super) struct CompiledRule {
+    pub(super) program: std::ops::Range<usize>,
+    pub(super) antecedent: Condition,
+    pub(super) conclusions: std::ops::Range<usize>,
+    pub(super) weight: f64,
 }
 
 #[derive(Debug, Clone)]
-struct CompiledConclusion {
-    output: usize,
-    term: usize,
-    hedges: Vec<Hedge>,
+pub(super) struct CompiledConclusion {
+    pub(super) output: usize,
+    pub(super) term: usize,
+    pub(super) hedges: Vec<Hedge>,
     /// Index of `(term, implication)` among the pairs concluded on this output.
-    slot: usize,
+    pub(super) slot: usize,
 }
 
 #[derive(Debug, Clone)]
-struct CompiledBlock {
-    enabled: bool,
-    conjunction: TNorm,
-    disjunction: SNorm,
-    implication: TNorm,
-    activation: Activation,
-    rules: std::ops::Range<usize>,
+pub(super) struct CompiledBlock {
+    pub(super) enabled: bool,
+    pub(super) conjunction: TNorm,
+    pub(super) disjunction: SNorm,
+    pub(super) implication: TNorm,
+    pub(super) activation: Activation,
+    pub(super) rules: std::ops::Range<usize>,
 }
 
 #[derive(Debug, Clone)]
-struct CompiledOutput {
+pub(super) struct CompiledOutput {
     /// `terms × resolution` samples (integral outputs only).
     samples: Vec<f64>,
     /// Non-zero sample span per term.
@@ -137,26 +135,23 @@ struct CompiledOutput {
 /// A compiled engine with its state (input values, output values, rule activations).
 #[derive(Debug, Clone)]
 pub struct Inference {
-    engine: Engine,
-    inputs: Vec<f64>,
-    outputs: Vec<f64>,
-    previous: Vec<f64>,
-    props: Vec<Prop>,
-    fuzzify: Vec<Fuzzify>,
-    prop_values: Vec<f64>,
-    program: Vec<Op>,
-    chains: Vec<u32>,
-    rules: Vec<CompiledRule>,
-    conclusions: Vec<CompiledConclusion>,
-    blocks: Vec<CompiledBlock>,
-    degrees: Vec<f64>,
-    fired: Vec<bool>,
-    outs: Vec<CompiledOutput>,
-    stack: Vec<f64>,
-    order: Vec<usize>,
-    /// How [`Inference::process_columns`] evaluates this engine, and its scratch columns.
-    plan: batch::Plan,
-    scratch: batch::Scratch,
+    pub(super) engine: Engine,
+    pub(super) inputs: Vec<f64>,
+    pub(super) outputs: Vec<f64>,
+    pub(super) previous: Vec<f64>,
+    pub(super) props: Vec<Prop>,
+    pub(super) fuzzify: Vec<Fuzzify>,
+    pub(super) prop_values: Vec<f64>,
+    pub(super) program: Vec<Op>,
+    pub(super) chains: Vec<u32>,
+    pub(super) rules: Vec<CompiledRule>,
+    pub(super) conclusions: Vec<CompiledConclusion>,
+    pub(super) blocks: Vec<CompiledBlock>,
+    pub(super) degrees: Vec<f64>,
+    pub(super) fired: Vec<bool>,
+    pub(super) outs: Vec<CompiledOutput>,
+    pub(super) stack: Vec<f64>,
+    pub(super) order: Vec<usize>,
 }
 
 /// How strongly one rule was activated in the last [`Inference::process`].
@@ -366,7 +361,7 @@ impl Inference {
         }
         let fuzzify = props.iter().map(|p| fuzzify_plan(engine, p)).collect();
         let n_rules = rules.len();
-        let mut inference = Inference {
+        Ok(Inference {
             engine: engine.clone(),
             inputs: vec![f64::NAN; engine.inputs.len()],
             outputs: vec![f64::NAN; engine.outputs.len()],
@@ -384,11 +379,7 @@ impl Inference {
             outs,
             stack: Vec::with_capacity(max_depth),
             order: Vec::with_capacity(n_rules),
-            plan: batch::Plan::default(),
-            scratch: batch::Scratch::default(),
-        };
-        inference.plan = batch::Plan::new(&inference);
-        Ok(inference)
+        })
     }
 
     /// The engine this inference runs.
@@ -484,7 +475,6 @@ impl Inference {
             outs,
             stack,
             order,
-            ..
         } = self;
         // Fuzzify: lock-range clamps inputs, then every distinct input proposition is evaluated
         // once. Propositions on outputs are evaluated when a rule reads them.
@@ -541,13 +531,13 @@ impl Inference {
 
 /// `x` clamped to the range of `var` under lock-range (NaN stays NaN).
 #[inline]
-fn clamp_input(var: &InputVariable, x: f64) -> f64 {
+pub(super) fn clamp_input(var: &InputVariable, x: f64) -> f64 {
     if var.lock_range && !x.is_nan() { x.clamp(var.minimum, var.maximum) } else { x }
 }
 
 /// Degree of `prop` on input `i` (a disabled input gives 0) through the term's own membership
 /// and the hedges.
-fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64]) -> f64 {
+pub(super) fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64]) -> f64 {
     let var = &engine.inputs[i];
     if !var.enabled {
         return 0.0;
@@ -560,7 +550,7 @@ fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64]) -> 
 }
 
 /// Forgets the activations of the previous step.
-fn start_step(outs: &mut [CompiledOutput]) {
+pub(super) fn start_step(outs: &mut [CompiledOutput]) {
     for out in outs.iter_mut() {
         out.activated.clear();
         out.raw.clear();
@@ -571,7 +561,7 @@ fn start_step(outs: &mut [CompiledOutput]) {
 
 /// The degree of `rule`'s antecedent, its propositions read through `load`.
 #[inline]
-fn antecedent(
+pub(super) fn antecedent(
     rule: &CompiledRule,
     block: &CompiledBlock,
     chains: &[u32],
@@ -617,7 +607,7 @@ fn antecedent(
 }
 
 /// Records the `conclusions` of a rule that fired with `degree` on their (enabled) outputs.
-fn trigger(
+pub(super) fn trigger(
     engine: &Engine,
     conclusions: &[CompiledConclusion],
     implication: TNorm,
@@ -662,7 +652,7 @@ fn trigger(
 /// Defuzzifies the enabled outputs `wanted` accepts from the activations recorded this step
 /// into `outputs` (an output with none, or an undefined result, falls back as
 /// [`finish_output`] says).
-fn defuzzify(
+pub(super) fn defuzzify(
     engine: &Engine,
     outs: &mut [CompiledOutput],
     inputs: &[f64],

@@ -20,15 +20,21 @@
 //! Engines outside that case run [`Inference::process`] row by row. Rows are evaluated in
 //! order, so an output that keeps its previous value (lock-previous) sees the row before.
 
-use super::*;
-use crate::fuzzy::WeightedKind;
+use super::defuzz;
+use super::engine::{Activation, Defuzzifier, WeightedKind};
+use super::inference::{
+    Condition, FIRING_THRESHOLD, Fuzzify, Inference, antecedent, apply_hedges, clamp_input, combine, defuzzify,
+    finish_output, input_proposition, start_step, trigger,
+};
+use super::norm::{SNorm, TNorm};
+use super::rule::VariableRef;
+use super::term::Term;
 
 /// Rows per chunk: each proposition and rule degree is a column of this many values.
-pub(super) const CHUNK: usize = 256;
+const CHUNK: usize = 256;
 
-/// How [`Inference::process_columns`] evaluates an engine, decided when it is compiled.
-#[derive(Debug, Clone, Default)]
-pub(super) struct Plan {
+/// How [`Inference::process_columns`] evaluates an engine.
+struct Plan {
     /// Propositions and rule degrees are computed column by column (see the module docs).
     columnar: bool,
     /// Per output, when it is folded column by column: its `(rule, conclusion)` activations in
@@ -36,9 +42,8 @@ pub(super) struct Plan {
     weighted: Vec<Option<Vec<(usize, usize)>>>,
 }
 
-/// Scratch columns, `CHUNK` values each, grown on first use.
-#[derive(Debug, Clone, Default)]
-pub(super) struct Scratch {
+/// Scratch columns, `CHUNK` values each.
+struct Scratch {
     /// Clamped inputs, one column per input.
     x: Vec<f64>,
     /// One column per proposition.
@@ -54,7 +59,7 @@ pub(super) struct Scratch {
 
 impl Plan {
     /// The plan for a compiled engine.
-    pub(super) fn new(inference: &Inference) -> Plan {
+    fn new(inference: &Inference) -> Plan {
         let Inference { engine, props, rules, conclusions, blocks, .. } = inference;
         let columnar = blocks.iter().all(|b| !b.enabled || b.activation == Activation::General)
             && props.iter().all(|p| matches!(p.source, VariableRef::Input(_)));
@@ -94,7 +99,8 @@ impl Inference {
     /// after row, bit for bit; afterwards the inference holds the last row's state.
     pub fn process_columns(&mut self, inputs: &[&[f64]], outputs: &mut [&mut [f64]]) {
         let rows = outputs.iter().map(|c| c.len()).min().unwrap_or(0);
-        if !self.plan.columnar {
+        let plan = Plan::new(self);
+        if !plan.columnar {
             for r in 0..rows {
                 for (i, x) in self.inputs.iter_mut().enumerate() {
                     *x = inputs.get(i).and_then(|c| c.get(r)).copied().unwrap_or(f64::NAN);
@@ -106,17 +112,22 @@ impl Inference {
             }
             return;
         }
-        let mut scratch = std::mem::take(&mut self.scratch);
-        scratch.grow(self.inputs.len(), self.props.len(), self.rules.len());
+        let mut scratch = Scratch::new(self.inputs.len(), self.props.len(), self.rules.len());
         for start in (0..rows).step_by(CHUNK) {
             let span = start..(start + CHUNK).min(rows);
-            self.chunk(&mut scratch, inputs, outputs, span);
+            self.chunk(&plan, &mut scratch, inputs, outputs, span);
         }
-        self.scratch = scratch;
     }
 
     /// Rows `span`, column by column (the engine is columnar).
-    fn chunk(&mut self, s: &mut Scratch, inputs: &[&[f64]], outputs: &mut [&mut [f64]], span: std::ops::Range<usize>) {
+    fn chunk(
+        &mut self,
+        plan: &Plan,
+        s: &mut Scratch,
+        inputs: &[&[f64]],
+        outputs: &mut [&mut [f64]],
+        span: std::ops::Range<usize>,
+    ) {
         let n = span.len();
         // Inputs, clamped.
         for (i, var) in self.engine.inputs.iter().enumerate() {
@@ -182,7 +193,7 @@ impl Inference {
             }
         }
         // Weighted outputs folded column by column.
-        for (o, order) in self.plan.weighted.iter().enumerate() {
+        for (o, order) in plan.weighted.iter().enumerate() {
             let Some(order) = order else { continue };
             let var = &self.engine.outputs[o];
             let Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) = var.defuzzifier
@@ -224,21 +235,8 @@ impl Inference {
             }
         }
         // The other outputs, row by row from the degrees.
-        let by_row = |o: usize| self.plan.weighted.get(o).is_none_or(Option::is_none);
-        let Inference {
-            engine,
-            inputs,
-            outputs: state,
-            previous,
-            rules,
-            conclusions,
-            blocks,
-            degrees,
-            fired,
-            outs,
-            ..
-        } = self;
-        let rows_needed = engine.outputs.iter().enumerate().any(|(o, v)| v.enabled && by_row(o));
+        let by_row = |o: usize| plan.weighted.get(o).is_none_or(Option::is_none);
+        let rows_needed = self.engine.outputs.iter().enumerate().any(|(o, v)| v.enabled && by_row(o));
         // The state after the chunk is its last row's: inputs and degrees always, the rest
         // when some output is finished row by row.
         for k in 0..n {
@@ -246,27 +244,28 @@ impl Inference {
             if !rows_needed && !last {
                 continue;
             }
-            for (j, x) in inputs.iter_mut().enumerate() {
+            for (j, x) in self.inputs.iter_mut().enumerate() {
                 *x = s.x[j * CHUNK + k];
             }
-            for (i, (d, f)) in degrees.iter_mut().zip(fired.iter_mut()).enumerate() {
+            for (i, (d, f)) in self.degrees.iter_mut().zip(self.fired.iter_mut()).enumerate() {
                 *d = s.degrees[i * CHUNK + k];
                 *f = *d > FIRING_THRESHOLD;
             }
             if !rows_needed {
                 continue;
             }
-            start_step(outs);
-            previous.copy_from_slice(state);
-            for block in blocks.iter().filter(|b| b.enabled) {
-                for i in block.rules.clone().filter(|&i| fired[i]) {
-                    trigger(engine, &conclusions[rules[i].conclusions.clone()], block.implication, degrees[i], outs);
+            start_step(&mut self.outs);
+            self.previous.copy_from_slice(&self.outputs);
+            for block in self.blocks.iter().filter(|b| b.enabled) {
+                for i in block.rules.clone().filter(|&i| self.fired[i]) {
+                    let conclusions = &self.conclusions[self.rules[i].conclusions.clone()];
+                    trigger(&self.engine, conclusions, block.implication, self.degrees[i], &mut self.outs);
                 }
             }
-            defuzzify(engine, outs, inputs, state, previous, by_row);
-            for ((o, column), var) in outputs.iter_mut().enumerate().zip(&engine.outputs) {
+            defuzzify(&self.engine, &mut self.outs, &self.inputs, &mut self.outputs, &self.previous, by_row);
+            for ((o, column), var) in outputs.iter_mut().enumerate().zip(&self.engine.outputs) {
                 if var.enabled && by_row(o) {
-                    column[span.start + k] = state[o];
+                    column[span.start + k] = self.outputs[o];
                 }
             }
         }
@@ -274,12 +273,16 @@ impl Inference {
 }
 
 impl Scratch {
-    fn grow(&mut self, inputs: usize, props: usize, rules: usize) {
-        self.x.resize(inputs * CHUNK, 0.0);
-        self.props.resize(props * CHUNK, 0.0);
-        self.degrees.resize(rules * CHUNK, 0.0);
-        for v in [&mut self.sum, &mut self.weights, &mut self.hedged, &mut self.z] {
-            v.resize(CHUNK, 0.0);
+    fn new(inputs: usize, props: usize, rules: usize) -> Scratch {
+        let column = || vec![0.0; CHUNK];
+        Scratch {
+            x: vec![0.0; inputs * CHUNK],
+            props: vec![0.0; props * CHUNK],
+            degrees: vec![0.0; rules * CHUNK],
+            sum: column(),
+            weights: column(),
+            hedged: column(),
+            z: column(),
         }
     }
 }
