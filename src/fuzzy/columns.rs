@@ -20,6 +20,8 @@
 //! Engines outside that case run [`Inference::process`] row by row. Rows are evaluated in
 //! order, so an output that keeps its previous value (lock-previous) sees the row before.
 
+use std::ops::Range;
+
 use super::defuzz;
 use super::engine::{Activation, Defuzzifier, WeightedKind};
 use super::inference::{
@@ -119,14 +121,46 @@ impl Inference {
         }
     }
 
-    /// Rows `span`, column by column (the engine is columnar).
+    /// Rows `span`, column by column (the engine is columnar). On x86-64 processors with AVX2
+    /// the same code is compiled for it and chosen at run time, with the same results bit for
+    /// bit (see `CompiledOutput::aggregate_and_defuzzify`).
     fn chunk(
         &mut self,
         plan: &Plan,
         s: &mut Scratch,
         inputs: &[&[f64]],
         outputs: &mut [&mut [f64]],
-        span: std::ops::Range<usize>,
+        span: Range<usize>,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor runs AVX2 instructions, checked just above.
+            return unsafe { self.chunk_avx2(plan, s, inputs, outputs, span) };
+        }
+        self.chunk_here(plan, s, inputs, outputs, span)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn chunk_avx2(
+        &mut self,
+        plan: &Plan,
+        s: &mut Scratch,
+        inputs: &[&[f64]],
+        outputs: &mut [&mut [f64]],
+        span: Range<usize>,
+    ) {
+        self.chunk_here(plan, s, inputs, outputs, span)
+    }
+
+    #[inline(always)]
+    fn chunk_here(
+        &mut self,
+        plan: &Plan,
+        s: &mut Scratch,
+        inputs: &[&[f64]],
+        outputs: &mut [&mut [f64]],
+        span: Range<usize>,
     ) {
         let n = span.len();
         // Inputs, clamped.
@@ -213,13 +247,7 @@ impl Inference {
                 let term = &var.terms[conclusion.term].term;
                 let z = &mut s.z[..n];
                 weighted_values(kind, term, hedged, &s.x, z);
-                for ((((sum, weight), &d), &h), &z) in
-                    sum.iter_mut().zip(weights.iter_mut()).zip(degrees).zip(hedged.iter()).zip(z.iter())
-                {
-                    let fired = d > FIRING_THRESHOLD;
-                    *sum = if fired { *sum + h * z } else { *sum };
-                    *weight = if fired { *weight + h } else { *weight };
-                }
+                accumulate(sum, weights, degrees, hedged, z);
             }
             let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
             let mut previous = self.outputs[o];
@@ -289,19 +317,38 @@ impl Scratch {
 
 /// `values[k] = trapezoid(xs[k], a, b, c, d, height)` (the scalar evaluation's formula): every
 /// branch computed and one selected, so that the loop runs in vector registers.
+#[inline(always)]
 fn trapezoid_column(xs: &[f64], values: &mut [f64], [a, b, c, d]: [f64; 4], height: f64) {
-    for (v, &x) in values.iter_mut().zip(xs) {
+    let n = values.len().min(xs.len());
+    let (xs, values) = (&xs[..n], &mut values[..n]);
+    for k in 0..n {
+        let x = xs[k];
         let rise = (x - a) / (b - a);
         let fall = (d - x) / (d - c);
         let slope = if x < b { rise } else { fall };
-        let top = (b <= x && x <= c) || (a == f64::NEG_INFINITY && x < b) || (d == f64::INFINITY && x > c);
+        let top = ((b <= x) & (x <= c)) | ((a == f64::NEG_INFINITY) & (x < b)) | ((d == f64::INFINITY) & (x > c));
         let y = if top { 1.0 } else { slope };
-        let y = if x < a || x > d { 0.0 } else { y };
-        *v = if x.is_nan() { f64::NAN } else { height * y };
+        let y = if (x < a) | (x > d) { 0.0 } else { y };
+        values[k] = if x.is_nan() { f64::NAN } else { height * y };
+    }
+}
+
+/// `sum[k] += h[k] · z[k]` and `weights[k] += h[k]` where `degrees[k]` fired. Adding zero
+/// elsewhere leaves both unchanged, bit for bit: they start at +0 and a sum of doubles is -0
+/// only when both terms are, so neither is ever -0.
+#[inline(always)]
+fn accumulate(sum: &mut [f64], weights: &mut [f64], degrees: &[f64], h: &[f64], z: &[f64]) {
+    let n = sum.len().min(weights.len()).min(degrees.len()).min(h.len()).min(z.len());
+    let (sum, weights, degrees, h, z) = (&mut sum[..n], &mut weights[..n], &degrees[..n], &h[..n], &z[..n]);
+    for k in 0..n {
+        let fired = degrees[k] > FIRING_THRESHOLD;
+        sum[k] += if fired { h[k] * z[k] } else { 0.0 };
+        weights[k] += if fired { h[k] } else { 0.0 };
     }
 }
 
 /// `acc[k] = combine(acc[k], b[k], t)`, the common T-norms inlined.
+#[inline(always)]
 fn conjoin(acc: &mut [f64], b: &[f64], t: TNorm) {
     match t {
         TNorm::Minimum => fold(acc, b, |a, b| TNorm::Minimum.apply(a, b)),
@@ -311,6 +358,7 @@ fn conjoin(acc: &mut [f64], b: &[f64], t: TNorm) {
 }
 
 /// `acc[k] = combine(acc[k], b[k], s)`, the common S-norms inlined.
+#[inline(always)]
 fn disjoin(acc: &mut [f64], b: &[f64], s: SNorm) {
     match s {
         SNorm::Maximum => fold(acc, b, |a, b| SNorm::Maximum.apply(a, b)),
@@ -328,6 +376,7 @@ fn fold(acc: &mut [f64], b: &[f64], op: impl Fn(f64, f64) -> f64 + Copy) {
 
 /// The value `z` a weighted defuzzifier multiplies by each degree in `degrees`, as
 /// [`defuzz::weighted_fold`] computes it; `x` holds the chunk's input columns.
+#[inline(always)]
 fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], z: &mut [f64]) {
     let tsukamoto = match kind {
         WeightedKind::Tsukamoto => true,

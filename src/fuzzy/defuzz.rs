@@ -21,6 +21,7 @@ pub fn sample_x(minimum: f64, maximum: f64, resolution: usize, i: usize) -> f64 
 /// Defuzzifies sampled memberships `mu` (length = resolution) over `[minimum, maximum]` with
 /// an integral defuzzifier. Returns NaN when there is no area. Weighted defuzzifiers return NaN
 /// here (they are not integral).
+#[inline(always)]
 pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
     let n = mu.len();
     if n == 0 {
@@ -85,6 +86,7 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
 /// The largest of `ys`, or `None` when one is NaN. Searched in four independent lanes (the
 /// maximum of numbers does not depend on their order; `±0` may come out either way, which the
 /// callers, looking for a positive maximum, do not see).
+#[inline(always)]
 fn largest(ys: &[f64]) -> Option<f64> {
     let (chunks, tail) = ys.as_chunks::<4>();
     let mut top = [f64::NEG_INFINITY; 4];
@@ -104,6 +106,7 @@ fn largest(ys: &[f64]) -> Option<f64> {
 }
 
 /// Centre of area of the samples: `Σ μᵢ·xᵢ / Σ μᵢ`.
+#[inline(always)]
 pub fn centroid(minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
     let n = mu.len();
     let dx = (maximum - minimum) / n as f64;
