@@ -24,6 +24,10 @@
 //! its samples. Sums run in four independent lanes the compiler keeps in vector registers, so
 //! they differ from the sequential sum only by rounding.
 //!
+//! On x86-64 processors with AVX2, aggregation and defuzzification run a copy of the same code
+//! compiled for AVX2 (four doubles per vector instruction), chosen at run time; Rust never
+//! fuses or reorders floating-point operations, so both copies give the same bits.
+//!
 //! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
 //! its degree is positive (NaN never fires); an output on which no rule fired, or whose
 //! result is undefined, takes its previous value (lock-previous) or its default value. Results agree with the naive
