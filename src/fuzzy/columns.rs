@@ -44,6 +44,15 @@ struct Plan {
     weighted: Vec<Option<Vec<(usize, usize)>>>,
 }
 
+/// One chunk's work: rows `span` of `inputs` into `outputs`.
+struct Chunk<'a, 'o> {
+    plan: &'a Plan,
+    scratch: &'a mut Scratch,
+    inputs: &'a [&'a [f64]],
+    outputs: &'a mut [&'o mut [f64]],
+    span: Range<usize>,
+}
+
 /// Scratch columns, `CHUNK` values each.
 struct Scratch {
     /// Clamped inputs, one column per input.
@@ -117,51 +126,30 @@ impl Inference {
         let mut scratch = Scratch::new(self.inputs.len(), self.props.len(), self.rules.len());
         for start in (0..rows).step_by(CHUNK) {
             let span = start..(start + CHUNK).min(rows);
-            self.chunk(&plan, &mut scratch, inputs, outputs, span);
+            self.chunk(Chunk { plan: &plan, scratch: &mut scratch, inputs, outputs, span });
         }
     }
 
     /// Rows `span`, column by column (the engine is columnar). On x86-64 processors with AVX2
     /// the same code is compiled for it and chosen at run time, with the same results bit for
     /// bit (see `CompiledOutput::aggregate_and_defuzzify`).
-    fn chunk(
-        &mut self,
-        plan: &Plan,
-        s: &mut Scratch,
-        inputs: &[&[f64]],
-        outputs: &mut [&mut [f64]],
-        span: Range<usize>,
-    ) {
+    fn chunk(&mut self, job: Chunk<'_, '_>) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor runs AVX2 instructions, checked just above.
-            return unsafe { self.chunk_avx2(plan, s, inputs, outputs, span) };
+            return unsafe { self.chunk_avx2(job) };
         }
-        self.chunk_here(plan, s, inputs, outputs, span)
+        self.chunk_here(job)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn chunk_avx2(
-        &mut self,
-        plan: &Plan,
-        s: &mut Scratch,
-        inputs: &[&[f64]],
-        outputs: &mut [&mut [f64]],
-        span: Range<usize>,
-    ) {
-        self.chunk_here(plan, s, inputs, outputs, span)
+    fn chunk_avx2(&mut self, job: Chunk<'_, '_>) {
+        self.chunk_here(job)
     }
 
     #[inline(always)]
-    fn chunk_here(
-        &mut self,
-        plan: &Plan,
-        s: &mut Scratch,
-        inputs: &[&[f64]],
-        outputs: &mut [&mut [f64]],
-        span: Range<usize>,
-    ) {
+    fn chunk_here(&mut self, Chunk { plan, scratch: s, inputs, outputs, span }: Chunk<'_, '_>) {
         let n = span.len();
         // Inputs, clamped.
         for (i, var) in self.engine.inputs.iter().enumerate() {
@@ -207,11 +195,7 @@ impl Inference {
                         degrees.copy_from_slice(&s.props[first * CHUNK..first * CHUNK + n]);
                         for &p in chain.iter().skip(1) {
                             let b = &s.props[p as usize * CHUNK..p as usize * CHUNK + n];
-                            if *and {
-                                conjoin(degrees, b, block.conjunction);
-                            } else {
-                                disjoin(degrees, b, block.disjunction);
-                            }
+                            connect(degrees, b, *and, block.conjunction, block.disjunction);
                         }
                     }
                     Condition::Program => {
@@ -347,23 +331,17 @@ fn accumulate(sum: &mut [f64], weights: &mut [f64], degrees: &[f64], h: &[f64], 
     }
 }
 
-/// `acc[k] = combine(acc[k], b[k], t)`, the common T-norms inlined.
+/// `acc[k] = combine(acc[k], b[k], op)` with `op` the conjunction (`and`) or the disjunction,
+/// the common norms inlined.
 #[inline(always)]
-fn conjoin(acc: &mut [f64], b: &[f64], t: TNorm) {
-    match t {
-        TNorm::Minimum => fold(acc, b, |a, b| TNorm::Minimum.apply(a, b)),
-        TNorm::AlgebraicProduct => fold(acc, b, |a, b| TNorm::AlgebraicProduct.apply(a, b)),
-        t => fold(acc, b, |a, b| t.apply(a, b)),
-    }
-}
-
-/// `acc[k] = combine(acc[k], b[k], s)`, the common S-norms inlined.
-#[inline(always)]
-fn disjoin(acc: &mut [f64], b: &[f64], s: SNorm) {
-    match s {
-        SNorm::Maximum => fold(acc, b, |a, b| SNorm::Maximum.apply(a, b)),
-        SNorm::AlgebraicSum => fold(acc, b, |a, b| SNorm::AlgebraicSum.apply(a, b)),
-        s => fold(acc, b, |a, b| s.apply(a, b)),
+fn connect(acc: &mut [f64], b: &[f64], and: bool, conjunction: TNorm, disjunction: SNorm) {
+    match (and, conjunction, disjunction) {
+        (true, TNorm::Minimum, _) => fold(acc, b, |a, b| TNorm::Minimum.apply(a, b)),
+        (true, TNorm::AlgebraicProduct, _) => fold(acc, b, |a, b| TNorm::AlgebraicProduct.apply(a, b)),
+        (true, t, _) => fold(acc, b, |a, b| t.apply(a, b)),
+        (false, _, SNorm::Maximum) => fold(acc, b, |a, b| SNorm::Maximum.apply(a, b)),
+        (false, _, SNorm::AlgebraicSum) => fold(acc, b, |a, b| SNorm::AlgebraicSum.apply(a, b)),
+        (false, _, s) => fold(acc, b, |a, b| s.apply(a, b)),
     }
 }
 
