@@ -4,8 +4,9 @@
 //!
 //! Layout: [`engine`] is the plain-data description, [`variable`] its linguistic variables,
 //! [`rule`] the rule grammar, [`fll`] the FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
-//! used to check it. Several engines are layered with [`Network`]. The module does no IO.
+//! used to check it; `columns` evaluates many rows at once ([`Inference::process_columns`]). Several engines are layered with [`Network`]. The module does no IO.
 
+mod columns;
 pub mod defuzz;
 pub mod engine;
 pub mod fll;

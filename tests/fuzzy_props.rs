@@ -32,17 +32,22 @@ fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
     }
 }
 
+/// Input `in{i}` on `[-5, 5]` with two to `2 + extra` random terms.
+fn random_input(rng: &mut ChaCha8Rng, i: usize, extra: f64) -> InputVariable {
+    let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
+    for t in 0..2 + (unit(rng) * extra) as usize {
+        v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
+    }
+    v
+}
+
 /// A random valid Mamdani/Larsen-style engine with integral outputs, or a Takagi-Sugeno one.
 fn random_engine(seed: u64) -> Engine {
     let rng = &mut stream(seed, 0, 0);
     let mut e = Engine::new("random");
     let n_in = 1 + (unit(rng) * 3.0) as usize;
     for i in 0..n_in {
-        let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
-        for t in 0..2 + (unit(rng) * 3.0) as usize {
-            v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
-        }
-        e.inputs.push(v);
+        e.inputs.push(random_input(rng, i, 3.0));
     }
     let sugeno = unit(rng) < 0.25;
     let n_out = 1 + (unit(rng) * 2.0) as usize;
@@ -367,5 +372,153 @@ fn benchmark_engines_agree_with_reference() {
                 }
             }
         }
+    }
+}
+
+/// A random Takagi-Sugeno engine whose output terms are each concluded by one rule (so its
+/// outputs are folded column by column in [`Inference::process_columns`]): constant or linear
+/// terms, any conjunction and disjunction, hedges, weights, sometimes a second output.
+fn sugeno_engine(seed: u64) -> Engine {
+    let rng = &mut stream(seed, 2, 0);
+    let mut e = Engine::new("sugeno");
+    let n_in = 1 + (unit(rng) * 3.0) as usize;
+    for i in 0..n_in {
+        let mut v = random_input(rng, i, 4.0);
+        v.lock_range = unit(rng) < 0.3;
+        e.inputs.push(v);
+    }
+    let mut block = RuleBlock::mamdani("rules");
+    block.conjunction = Some(pick(rng, &TNorm::ALL));
+    block.disjunction = Some(pick(rng, &SNorm::ALL));
+    e.rule_blocks.push(block);
+    let rules = 1 + (unit(rng) * 20.0) as usize;
+    for o in 0..1 + (unit(rng) * 2.0) as usize {
+        let mut v = OutputVariable::new(&format!("out{o}"), -10.0, 10.0);
+        for t in 0..rules {
+            let term = if unit(rng) < 0.3 {
+                Term::Constant { value: uniform(rng, -10.0, 10.0) }
+            } else {
+                let n = n_in + usize::from(unit(rng) < 0.7);
+                Term::Linear { coefficients: (0..n).map(|_| uniform(rng, -2.0, 2.0)).collect() }
+            };
+            v = v.term(&format!("t{t}"), term);
+        }
+        v.defuzzifier = Some(pick(
+            rng,
+            &[
+                Defuzzifier::WeightedAverage { kind: WeightedKind::TakagiSugeno },
+                Defuzzifier::WeightedSum { kind: WeightedKind::Automatic },
+            ],
+        ));
+        v.aggregation = None;
+        v.default_value = if unit(rng) < 0.5 { f64::NAN } else { uniform(rng, -10.0, 10.0) };
+        v.lock_previous = unit(rng) < 0.3;
+        v.lock_range = unit(rng) < 0.3;
+        e.outputs.push(v);
+    }
+    let hedges = ["", "", "", "not ", "very ", "somewhat ", "extremely ", "seldom "];
+    for r in 0..rules {
+        let mut text = String::from("if ");
+        for p in 0..1 + (unit(rng) * 3.0) as usize {
+            if p > 0 {
+                text.push_str(pick(rng, &[" and ", " or "]));
+            }
+            let i = (unit(rng) * n_in as f64) as usize;
+            let t = (unit(rng) * e.inputs[i].terms.len() as f64) as usize;
+            text.push_str(&format!("in{i} is {}t{t}", pick(rng, &hedges)));
+        }
+        let conclusions: Vec<String> =
+            (0..e.outputs.len()).map(|o| format!("out{o} is {}t{r}", pick(rng, &hedges))).collect();
+        text.push_str(&format!(" then {}", conclusions.join(" and ")));
+        if unit(rng) < 0.3 {
+            text.push_str(&format!(" with {}", uniform(rng, 0.0, 1.0)));
+        }
+        e.add_rule(0, &text).unwrap_or_else(|err| panic!("{text}: {err}"));
+    }
+    e
+}
+
+/// `rows` rows of inputs for `engine` from `seed`: mostly within the ranges, some outside,
+/// some NaN.
+fn input_columns(engine: &Engine, seed: u64, rows: usize) -> Vec<Vec<f64>> {
+    let rng = &mut stream(seed, 3, 0);
+    let columns = engine.inputs.iter().map(|v| {
+        let span = v.maximum - v.minimum;
+        (0..rows)
+            .map(|_| match (unit(rng) * 40.0) as usize {
+                0 => f64::NAN,
+                1..=3 => uniform(rng, v.minimum - span, v.maximum + span),
+                _ => uniform(rng, v.minimum, v.maximum),
+            })
+            .collect::<Vec<f64>>()
+    });
+    columns.collect()
+}
+
+/// Column-wise evaluation gives, bit for bit, what row-by-row evaluation gives.
+fn assert_columns_equal_rows(engine: &Engine, seed: u64, rows: usize) {
+    let columns = input_columns(engine, seed, rows);
+    let mut scalar = Inference::new(engine).unwrap();
+    let mut batch = scalar.clone();
+    let mut out = vec![vec![0.0; rows]; engine.outputs.len()];
+    let inputs: Vec<&[f64]> = columns.iter().map(Vec::as_slice).collect();
+    let mut outputs: Vec<&mut [f64]> = out.iter_mut().map(Vec::as_mut_slice).collect();
+    batch.process_columns(&inputs, &mut outputs);
+    let mut row = vec![0.0; engine.inputs.len()];
+    for r in 0..rows {
+        for (x, c) in row.iter_mut().zip(&columns) {
+            *x = c[r];
+        }
+        scalar.set_inputs(&row);
+        scalar.process();
+        for (o, &want) in scalar.outputs().iter().enumerate() {
+            let got = out[o][r];
+            assert!(
+                got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                "row {r} {row:?}, output {o}: columns give {got}, rows {want}\n{}",
+                fll::export(engine)
+            );
+        }
+    }
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    assert_eq!(bits(batch.inputs()), bits(scalar.inputs()), "inputs after the last row");
+    for (o, (a, b)) in batch.outputs().iter().zip(scalar.outputs()).enumerate() {
+        assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "output {o} after the last row");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// `process_columns` equals `process` row by row on engines of every family, over several
+    /// chunks of rows.
+    #[test]
+    fn columns_equal_rows(seed in any::<u64>(), rows in 0usize..700) {
+        assert_columns_equal_rows(&random_engine(seed), seed, rows);
+        assert_columns_equal_rows(&mamdani_engine(seed), seed, rows);
+        assert_columns_equal_rows(&sugeno_engine(seed), seed, rows);
+    }
+}
+
+/// The same on the engines the repository ships: the fixtures, the benchmark engines and every
+/// engine of the navigation scripts.
+#[test]
+fn shipped_engines_columns_equal_rows() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut engines = Vec::new();
+    let shipped = [
+        "tests/fixtures/fuzzy/tipper.fll",
+        "benches/fixtures/narrow.fll",
+        "benches/fixtures/wide.fll",
+        "benches/fixtures/crowded.fll",
+        "scripts/nav.rhai",
+        "scripts/simple_nav.rhai",
+    ];
+    for path in shipped {
+        engines.extend(strider::cli::fuzzy::load_engines(&std::path::Path::new(root).join(path), None).unwrap());
+    }
+    assert!(engines.len() >= 6);
+    for (k, engine) in engines.iter().enumerate() {
+        assert_columns_equal_rows(engine, k as u64, 2000);
     }
 }

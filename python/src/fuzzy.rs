@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
@@ -40,22 +40,31 @@ impl Engine {
     }
 }
 
-/// Evaluates `network` on the rows of `columns` (one column per input, equal lengths) and
-/// returns one column per output.
-fn evaluate(network: &mut Network, columns: &[Vec<f64>], outputs: usize) -> Vec<Vec<f64>> {
-    let rows = columns.first().map_or(0, Vec::len);
-    let mut out = vec![vec![0.0; rows]; outputs];
-    let mut row = vec![0.0; columns.len()];
-    for r in 0..rows {
-        for (x, c) in row.iter_mut().zip(columns) {
-            *x = c[r];
-        }
-        network.process(&row);
-        for (o, column) in out.iter_mut().enumerate() {
-            column[r] = network.output_at(o);
+/// Evaluates `network` on the rows of `inputs` (one column per network input) into `outputs`
+/// (one column per output, all of the same length): pieces of [`PIECE`] rows in parallel, each
+/// on its own copy of the network, or in order on `network` itself when `stateful`.
+fn evaluate(network: &mut Network, inputs: &[&[f64]], outputs: &mut [&mut [f64]], stateful: bool) {
+    let rows = outputs.first().map_or(0, |c| c.len());
+    if stateful || rows <= PIECE {
+        network.process_columns(inputs, outputs);
+        return;
+    }
+    // Rows are independent: each piece gets the same rows of every column.
+    let mut pieces: Vec<Vec<&mut [f64]>> = (0..rows.div_ceil(PIECE)).map(|_| Vec::new()).collect();
+    for column in outputs.iter_mut() {
+        for (piece, part) in pieces.iter_mut().zip(column.chunks_mut(PIECE)) {
+            piece.push(part);
         }
     }
-    out
+    let template = &*network;
+    pieces.into_par_iter().enumerate().for_each_init(
+        || template.clone(),
+        |network, (p, mut outs)| {
+            let span = p * PIECE..((p + 1) * PIECE).min(rows);
+            let ins: Vec<&[f64]> = inputs.iter().map(|c| c.get(span.clone()).unwrap_or(&[])).collect();
+            network.process_columns(&ins, &mut outs);
+        },
+    );
 }
 
 #[pymethods]
@@ -114,30 +123,24 @@ impl Engine {
                 columns.len()
             )));
         }
-        let columns: Vec<Vec<f64>> = columns.iter().map(|c| c.as_array().to_vec()).collect();
-        let rows = columns.first().map_or(0, Vec::len);
-        if columns.iter().any(|c| c.len() != rows) {
+        let slices = columns.iter().map(|c| c.as_slice()).collect::<Result<Vec<&[f64]>, _>>();
+        let inputs = slices.map_err(|_| StriderError::new_err("the input columns must be contiguous"))?;
+        let rows = inputs.first().map_or(0, |c| c.len());
+        if inputs.iter().any(|c| c.len() != rows) {
             return Err(StriderError::new_err("the input columns differ in length"));
         }
-        let outputs = self.outputs.len();
+        let arrays: Vec<Bound<'py, PyArray1<f64>>> =
+            (0..self.outputs.len()).map(|_| PyArray1::zeros(py, rows, false)).collect();
+        // SAFETY: the arrays were just made here and nothing else refers to them yet.
+        let mut outputs: Vec<&mut [f64]> = arrays
+            .iter()
+            .map(|a| unsafe { a.as_slice_mut() })
+            .collect::<Result<_, _>>()
+            .map_err(|e| StriderError::new_err(e.to_string()))?;
         let stateful = self.stateful();
         let network = &mut self.network;
-        let out = py.detach(|| {
-            if stateful || rows <= PIECE {
-                return evaluate(network, &columns, outputs);
-            }
-            // Rows are independent: evaluate pieces in parallel, each on its own copy.
-            let pieces: Vec<Vec<Vec<f64>>> = (0..rows.div_ceil(PIECE))
-                .into_par_iter()
-                .map(|p| {
-                    let span = p * PIECE..((p + 1) * PIECE).min(rows);
-                    let piece: Vec<Vec<f64>> = columns.iter().map(|c| c[span.clone()].to_vec()).collect();
-                    evaluate(&mut network.clone(), &piece, outputs)
-                })
-                .collect();
-            (0..outputs).map(|o| pieces.iter().flat_map(|p| p[o].iter().copied()).collect()).collect()
-        });
-        Ok(out.into_iter().map(|c| c.into_pyarray(py)).collect())
+        py.detach(|| evaluate(network, &inputs, &mut outputs, stateful));
+        Ok(arrays)
     }
 
     fn __repr__(&self) -> String {

@@ -21,6 +21,7 @@ pub fn sample_x(minimum: f64, maximum: f64, resolution: usize, i: usize) -> f64 
 /// Defuzzifies sampled memberships `mu` (length = resolution) over `[minimum, maximum]` with
 /// an integral defuzzifier. Returns NaN when there is no area. Weighted defuzzifiers return NaN
 /// here (they are not integral).
+#[inline(always)]
 pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
     let n = mu.len();
     if n == 0 {
@@ -55,13 +56,9 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
         | Defuzzifier::LargestOfMaximum { .. }
         | Defuzzifier::MeanOfMaximum { .. } => {
             // Candidates: every sample at the (exact) global maximum, which must be positive.
-            let mut y_max = f64::NEG_INFINITY;
-            for &y in mu {
-                if y.is_nan() {
-                    return f64::NAN;
-                }
-                y_max = y_max.max(y);
-            }
+            let Some(y_max) = largest(mu) else {
+                return f64::NAN;
+            };
             if !(y_max > 0.0) {
                 return f64::NAN;
             }
@@ -86,7 +83,30 @@ pub fn integral(defuzzifier: &Defuzzifier, minimum: f64, maximum: f64, mu: &[f64
     }
 }
 
+/// The largest of `ys`, or `None` when one is NaN. Searched in four independent lanes (the
+/// maximum of numbers does not depend on their order; `±0` may come out either way, which the
+/// callers, looking for a positive maximum, do not see).
+#[inline(always)]
+fn largest(ys: &[f64]) -> Option<f64> {
+    let (chunks, tail) = ys.as_chunks::<4>();
+    let mut top = [f64::NEG_INFINITY; 4];
+    let mut nan = false;
+    for chunk in chunks {
+        for j in 0..4 {
+            nan |= chunk[j].is_nan();
+            top[j] = if chunk[j] > top[j] { chunk[j] } else { top[j] };
+        }
+    }
+    for &y in tail {
+        nan |= y.is_nan();
+        top[0] = if y > top[0] { y } else { top[0] };
+    }
+    let best = top.into_iter().fold(f64::NEG_INFINITY, |a, b| if b > a { b } else { a });
+    if nan { None } else { Some(best) }
+}
+
 /// Centre of area of the samples: `Σ μᵢ·xᵢ / Σ μᵢ`.
+#[inline(always)]
 pub fn centroid(minimum: f64, maximum: f64, mu: &[f64]) -> f64 {
     let n = mu.len();
     let dx = (maximum - minimum) / n as f64;

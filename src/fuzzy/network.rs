@@ -86,6 +86,32 @@ impl Network {
         }
     }
 
+    /// Runs every stage on one row per index: `inputs[k][r]` is network input `k` of row `r`
+    /// (a missing column reads as NaN) and `outputs[o][r]` receives output `o` (in
+    /// [`Network::output_names`] order). Each stage evaluates all rows, column by column where
+    /// it can ([`Inference::process_columns`]), before the next reads its outputs. The same as
+    /// [`Network::process`] row after row, bit for bit.
+    pub fn process_columns(&mut self, inputs: &[&[f64]], outputs: &mut [&mut [f64]]) {
+        let mut first = 0;
+        for (s, stage) in self.stages.iter_mut().enumerate() {
+            let count = stage.engine().outputs.len();
+            let Some((earlier, rest)) = outputs.split_at_mut_checked(first) else { return };
+            let Some(own) = rest.get_mut(..count) else { return };
+            let columns: Vec<&[f64]> = self.bindings[s]
+                .iter()
+                .map(|source| match *source {
+                    Source::External(k) => inputs.get(k).copied().unwrap_or(&[]),
+                    Source::Stage(st, o) => {
+                        let at = self.output_names.iter().position(|&(_, s, i)| (s, i) == (st, o));
+                        at.and_then(|at| earlier.get(at)).map_or(&[][..], |c| &c[..])
+                    }
+                })
+                .collect();
+            stage.process_columns(&columns, own);
+            first += count;
+        }
+    }
+
     /// Where output `name` is, for [`Network::output_at`].
     pub fn output_index(&self, name: &str) -> Option<usize> {
         self.output_names.iter().position(|(n, _, _)| n == name)

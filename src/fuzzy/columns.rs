@@ -1,0 +1,396 @@
+//! Many rows at once: [`Inference::process_columns`] evaluates an engine on columns of inputs
+//! (one value per row) and writes columns of outputs, with the same results, bit for bit, as
+//! [`Inference::process`] called row after row.
+//!
+//! Rows go in chunks of [`CHUNK`]. When every enabled rule block fires by general activation
+//! and every proposition reads an input (the common case: no rule reads an output), a chunk is
+//! evaluated column by column: the clamped inputs, each proposition's membership, each rule's
+//! degree, each one a tight loop over the chunk. Each element is computed by the same
+//! operations in the same order as the scalar evaluation, so only the loop order changes.
+//! Then:
+//!
+//! - a weighted output (Takagi-Sugeno, Tsukamoto) on which no term is concluded twice is
+//!   folded column by column too: its activations come in rule order whatever the row, so the
+//!   sums `Σ degree · z` and `Σ degree` add the same terms in the same order as the scalar
+//!   fold (a rule that did not fire is skipped per row, not added as zero);
+//! - every other output (integral ones, weighted ones with repeated terms) is finished row by
+//!   row from the degrees of the chunk, through the same recording and defuzzification code
+//!   as the scalar evaluation.
+//!
+//! Engines outside that case run [`Inference::process`] row by row. Rows are evaluated in
+//! order, so an output that keeps its previous value (lock-previous) sees the row before.
+
+use std::ops::Range;
+
+use super::defuzz;
+use super::engine::{Activation, Defuzzifier, WeightedKind};
+use super::inference::{
+    Condition, FIRING_THRESHOLD, Fuzzify, Inference, antecedent, apply_hedges, clamp_input, combine, defuzzify,
+    finish_output, input_proposition, start_step, trigger,
+};
+use super::norm::{SNorm, TNorm};
+use super::rule::VariableRef;
+use super::term::Term;
+
+/// Rows per chunk: each proposition and rule degree is a column of this many values.
+const CHUNK: usize = 256;
+
+/// How [`Inference::process_columns`] evaluates an engine.
+struct Plan {
+    /// Propositions and rule degrees are computed column by column (see the module docs).
+    columnar: bool,
+    /// Per output, when it is folded column by column: its `(rule, conclusion)` activations in
+    /// the order the rules record them.
+    weighted: Vec<Option<Vec<(usize, usize)>>>,
+}
+
+/// One chunk's work: rows `span` of `inputs` into `outputs`.
+struct Chunk<'a, 'o> {
+    plan: &'a Plan,
+    scratch: &'a mut Scratch,
+    inputs: &'a [&'a [f64]],
+    outputs: &'a mut [&'o mut [f64]],
+    span: Range<usize>,
+}
+
+/// Scratch columns, `CHUNK` values each.
+struct Scratch {
+    /// Clamped inputs, one column per input.
+    x: Vec<f64>,
+    /// One column per proposition.
+    props: Vec<f64>,
+    /// One column per rule.
+    degrees: Vec<f64>,
+    /// A weighted output's running `Σ degree · z` and `Σ degree`, the hedged degree and `z`.
+    sum: Vec<f64>,
+    weights: Vec<f64>,
+    hedged: Vec<f64>,
+    z: Vec<f64>,
+}
+
+impl Plan {
+    /// The plan for a compiled engine.
+    fn new(inference: &Inference) -> Plan {
+        let Inference { engine, props, rules, conclusions, blocks, .. } = inference;
+        let columnar = blocks.iter().all(|b| !b.enabled || b.activation == Activation::General)
+            && props.iter().all(|p| matches!(p.source, VariableRef::Input(_)));
+        let weighted = engine
+            .outputs
+            .iter()
+            .enumerate()
+            .map(|(o, var)| {
+                let folds = matches!(
+                    var.defuzzifier,
+                    Some(Defuzzifier::WeightedAverage { .. } | Defuzzifier::WeightedSum { .. })
+                );
+                if !columnar || !var.enabled || !folds {
+                    return None;
+                }
+                let order: Vec<(usize, usize)> = blocks
+                    .iter()
+                    .filter(|b| b.enabled)
+                    .flat_map(|b| b.rules.clone())
+                    .flat_map(|i| rules[i].conclusions.clone().map(move |c| (i, c)))
+                    .filter(|&(_, c)| conclusions[c].output == o)
+                    .collect();
+                let once = order.iter().enumerate().all(|(k, &(_, c))| {
+                    order[..k].iter().all(|&(_, earlier)| conclusions[earlier].term != conclusions[c].term)
+                });
+                once.then_some(order)
+            })
+            .collect();
+        Plan { columnar, weighted }
+    }
+}
+
+impl Inference {
+    /// Evaluates one row per index: `inputs[i][r]` is input `i` of row `r` (a missing column,
+    /// or one too short, reads as NaN) and `outputs[o][r]` receives output `o`. The rows are
+    /// as many as the shortest output column. The same as [`Inference::set_inputs`] and [`Inference::process`] row
+    /// after row, bit for bit; afterwards the inference holds the last row's state.
+    pub fn process_columns(&mut self, inputs: &[&[f64]], outputs: &mut [&mut [f64]]) {
+        let rows = outputs.iter().map(|c| c.len()).min().unwrap_or(0);
+        let plan = Plan::new(self);
+        if !plan.columnar {
+            for r in 0..rows {
+                for (i, x) in self.inputs.iter_mut().enumerate() {
+                    *x = inputs.get(i).and_then(|c| c.get(r)).copied().unwrap_or(f64::NAN);
+                }
+                self.process();
+                for (column, &y) in outputs.iter_mut().zip(&self.outputs) {
+                    column[r] = y;
+                }
+            }
+            return;
+        }
+        let mut scratch = Scratch::new(self.inputs.len(), self.props.len(), self.rules.len());
+        for start in (0..rows).step_by(CHUNK) {
+            let span = start..(start + CHUNK).min(rows);
+            self.chunk(Chunk { plan: &plan, scratch: &mut scratch, inputs, outputs, span });
+        }
+    }
+
+    /// Rows `span`, column by column (the engine is columnar). On x86-64 processors with AVX2
+    /// the same code is compiled for it and chosen at run time, with the same results bit for
+    /// bit (see `CompiledOutput::aggregate_and_defuzzify`).
+    fn chunk(&mut self, job: Chunk<'_, '_>) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor runs AVX2 instructions, checked just above.
+            return unsafe { self.chunk_avx2(job) };
+        }
+        self.chunk_here(job)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn chunk_avx2(&mut self, job: Chunk<'_, '_>) {
+        self.chunk_here(job)
+    }
+
+    #[inline(always)]
+    fn chunk_here(&mut self, Chunk { plan, scratch: s, inputs, outputs, span }: Chunk<'_, '_>) {
+        let n = span.len();
+        // Inputs, clamped.
+        for (i, var) in self.engine.inputs.iter().enumerate() {
+            let x = &mut s.x[i * CHUNK..i * CHUNK + n];
+            let c = inputs.get(i).copied().unwrap_or(&[]);
+            let have = c.len().clamp(span.start, span.end) - span.start;
+            for (x, &v) in x.iter_mut().zip(&c[span.start..span.start + have]) {
+                *x = clamp_input(var, v);
+            }
+            x[have..].fill(f64::NAN);
+        }
+        // Propositions.
+        for (p, (prop, plan)) in self.props.iter().zip(&self.fuzzify).enumerate() {
+            let values = &mut s.props[p * CHUNK..p * CHUNK + n];
+            match (*plan, prop.source) {
+                (Fuzzify::Trapezoid { input, a, b, c, d, height }, _) => {
+                    trapezoid_column(&s.x[input * CHUNK..input * CHUNK + n], values, [a, b, c, d], height);
+                }
+                (Fuzzify::General, VariableRef::Input(i)) => {
+                    for (k, v) in values.iter_mut().enumerate() {
+                        for (j, x) in self.inputs.iter_mut().enumerate() {
+                            *x = s.x[j * CHUNK + k];
+                        }
+                        *v = input_proposition(&self.engine, prop, i, &self.inputs);
+                    }
+                }
+                (Fuzzify::General, VariableRef::Output(_)) => values.fill(f64::NAN),
+            }
+        }
+        // Rule degrees.
+        for block in &self.blocks {
+            for i in block.rules.clone() {
+                let rule = &self.rules[i];
+                let degrees = &mut s.degrees[i * CHUNK..i * CHUNK + n];
+                if !block.enabled {
+                    degrees.fill(0.0);
+                    continue;
+                }
+                match &rule.antecedent {
+                    Condition::Chain { props, and } => {
+                        let chain = &self.chains[props.clone()];
+                        let first = chain.first().map_or(0, |&p| p as usize);
+                        degrees.copy_from_slice(&s.props[first * CHUNK..first * CHUNK + n]);
+                        for &p in chain.iter().skip(1) {
+                            let b = &s.props[p as usize * CHUNK..p as usize * CHUNK + n];
+                            connect(degrees, b, *and, block.conjunction, block.disjunction);
+                        }
+                    }
+                    Condition::Program => {
+                        for (k, d) in degrees.iter_mut().enumerate() {
+                            let load = |p: u32| s.props[p as usize * CHUNK + k];
+                            *d = antecedent(rule, block, &self.chains, &self.program, &mut self.stack, load);
+                        }
+                    }
+                }
+                for d in degrees.iter_mut() {
+                    *d *= rule.weight;
+                }
+            }
+        }
+        // Weighted outputs folded column by column.
+        for (o, order) in plan.weighted.iter().enumerate() {
+            let Some(order) = order else { continue };
+            let var = &self.engine.outputs[o];
+            let Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) = var.defuzzifier
+            else {
+                continue;
+            };
+            let (sum, weights) = (&mut s.sum[..n], &mut s.weights[..n]);
+            sum.fill(0.0);
+            weights.fill(0.0);
+            for &(i, c) in order {
+                let degrees = &s.degrees[i * CHUNK..i * CHUNK + n];
+                let conclusion = &self.conclusions[c];
+                let hedged = &mut s.hedged[..n];
+                for (h, &d) in hedged.iter_mut().zip(degrees) {
+                    *h = apply_hedges(&conclusion.hedges, d);
+                }
+                let term = &var.terms[conclusion.term].term;
+                let z = &mut s.z[..n];
+                weighted_values(kind, term, hedged, &s.x, z);
+                accumulate(sum, weights, degrees, hedged, z);
+            }
+            let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
+            let mut previous = self.outputs[o];
+            for ((y, &sum), &weight) in outputs[o][span.clone()].iter_mut().zip(sum.iter()).zip(weights.iter()) {
+                previous = finish_output(var, Some(defuzz::weighted_result((sum, weight), sum_only)), previous);
+                *y = previous;
+            }
+            self.outputs[o] = previous;
+        }
+        for (o, var) in self.engine.outputs.iter().enumerate() {
+            if !var.enabled {
+                outputs[o][span.clone()].fill(self.outputs[o]);
+            }
+        }
+        // The other outputs, row by row from the degrees.
+        let by_row = |o: usize| plan.weighted.get(o).is_none_or(Option::is_none);
+        let rows_needed = self.engine.outputs.iter().enumerate().any(|(o, v)| v.enabled && by_row(o));
+        // The state after the chunk is its last row's: inputs and degrees always, the rest
+        // when some output is finished row by row.
+        for k in 0..n {
+            let last = k + 1 == n;
+            if !rows_needed && !last {
+                continue;
+            }
+            for (j, x) in self.inputs.iter_mut().enumerate() {
+                *x = s.x[j * CHUNK + k];
+            }
+            for (i, (d, f)) in self.degrees.iter_mut().zip(self.fired.iter_mut()).enumerate() {
+                *d = s.degrees[i * CHUNK + k];
+                *f = *d > FIRING_THRESHOLD;
+            }
+            if !rows_needed {
+                continue;
+            }
+            start_step(&mut self.outs);
+            self.previous.copy_from_slice(&self.outputs);
+            for block in self.blocks.iter().filter(|b| b.enabled) {
+                for i in block.rules.clone().filter(|&i| self.fired[i]) {
+                    let conclusions = &self.conclusions[self.rules[i].conclusions.clone()];
+                    trigger(&self.engine, conclusions, block.implication, self.degrees[i], &mut self.outs);
+                }
+            }
+            defuzzify(&self.engine, &mut self.outs, &self.inputs, &mut self.outputs, &self.previous, by_row);
+            for ((o, column), var) in outputs.iter_mut().enumerate().zip(&self.engine.outputs) {
+                if var.enabled && by_row(o) {
+                    column[span.start + k] = self.outputs[o];
+                }
+            }
+        }
+    }
+}
+
+impl Scratch {
+    fn new(inputs: usize, props: usize, rules: usize) -> Scratch {
+        let column = || vec![0.0; CHUNK];
+        Scratch {
+            x: vec![0.0; inputs * CHUNK],
+            props: vec![0.0; props * CHUNK],
+            degrees: vec![0.0; rules * CHUNK],
+            sum: column(),
+            weights: column(),
+            hedged: column(),
+            z: column(),
+        }
+    }
+}
+
+/// `values[k] = trapezoid(xs[k], a, b, c, d, height)` (the scalar evaluation's formula): every
+/// branch computed and one selected, so that the loop runs in vector registers.
+#[inline(always)]
+fn trapezoid_column(xs: &[f64], values: &mut [f64], [a, b, c, d]: [f64; 4], height: f64) {
+    let n = values.len().min(xs.len());
+    let (xs, values) = (&xs[..n], &mut values[..n]);
+    for k in 0..n {
+        let x = xs[k];
+        let rise = (x - a) / (b - a);
+        let fall = (d - x) / (d - c);
+        let slope = if x < b { rise } else { fall };
+        let top = ((b <= x) & (x <= c)) | ((a == f64::NEG_INFINITY) & (x < b)) | ((d == f64::INFINITY) & (x > c));
+        let y = if top { 1.0 } else { slope };
+        let y = if (x < a) | (x > d) { 0.0 } else { y };
+        values[k] = if x.is_nan() { f64::NAN } else { height * y };
+    }
+}
+
+/// `sum[k] += h[k] · z[k]` and `weights[k] += h[k]` where `degrees[k]` fired. Adding zero
+/// elsewhere leaves both unchanged, bit for bit: they start at +0 and a sum of doubles is -0
+/// only when both terms are, so neither is ever -0.
+#[inline(always)]
+fn accumulate(sum: &mut [f64], weights: &mut [f64], degrees: &[f64], h: &[f64], z: &[f64]) {
+    let n = sum.len().min(weights.len()).min(degrees.len()).min(h.len()).min(z.len());
+    let (sum, weights, degrees, h, z) = (&mut sum[..n], &mut weights[..n], &degrees[..n], &h[..n], &z[..n]);
+    for k in 0..n {
+        let fired = degrees[k] > FIRING_THRESHOLD;
+        sum[k] += if fired { h[k] * z[k] } else { 0.0 };
+        weights[k] += if fired { h[k] } else { 0.0 };
+    }
+}
+
+/// `acc[k] = combine(acc[k], b[k], op)` with `op` the conjunction (`and`) or the disjunction,
+/// the common norms inlined.
+#[inline(always)]
+fn connect(acc: &mut [f64], b: &[f64], and: bool, conjunction: TNorm, disjunction: SNorm) {
+    match (and, conjunction, disjunction) {
+        (true, TNorm::Minimum, _) => fold(acc, b, |a, b| TNorm::Minimum.apply(a, b)),
+        (true, TNorm::AlgebraicProduct, _) => fold(acc, b, |a, b| TNorm::AlgebraicProduct.apply(a, b)),
+        (true, t, _) => fold(acc, b, |a, b| t.apply(a, b)),
+        (false, _, SNorm::Maximum) => fold(acc, b, |a, b| SNorm::Maximum.apply(a, b)),
+        (false, _, SNorm::AlgebraicSum) => fold(acc, b, |a, b| SNorm::AlgebraicSum.apply(a, b)),
+        (false, _, s) => fold(acc, b, |a, b| s.apply(a, b)),
+    }
+}
+
+#[inline(always)]
+fn fold(acc: &mut [f64], b: &[f64], op: impl Fn(f64, f64) -> f64 + Copy) {
+    for (a, &b) in acc.iter_mut().zip(b) {
+        *a = combine(*a, b, op);
+    }
+}
+
+/// The value `z` a weighted defuzzifier multiplies by each degree in `degrees`, as
+/// [`defuzz::weighted_fold`] computes it; `x` holds the chunk's input columns.
+#[inline(always)]
+fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], z: &mut [f64]) {
+    let tsukamoto = match kind {
+        WeightedKind::Tsukamoto => true,
+        WeightedKind::TakagiSugeno => false,
+        WeightedKind::Automatic => term.is_monotonic(),
+    };
+    match term {
+        _ if tsukamoto => {
+            for (z, &d) in z.iter_mut().zip(degrees) {
+                *z = term.tsukamoto(d).unwrap_or(f64::NAN);
+            }
+        }
+        Term::Constant { value } => z.fill(*value),
+        Term::Linear { coefficients } => {
+            // Σ cᵢ·xᵢ in coefficient order, the constant (times 1) last, as `membership_with`.
+            let n = z.len();
+            z.fill(0.0);
+            for (i, c) in coefficients.iter().enumerate() {
+                match x.get(i * CHUNK..i * CHUNK + n) {
+                    Some(xs) => {
+                        for (z, &x) in z.iter_mut().zip(xs) {
+                            *z += c * x;
+                        }
+                    }
+                    None => {
+                        for z in z.iter_mut() {
+                            *z += c * 1.0;
+                        }
+                    }
+                }
+            }
+        }
+        _ => {
+            for (z, &d) in z.iter_mut().zip(degrees) {
+                *z = term.membership(d);
+            }
+        }
+    }
+}
