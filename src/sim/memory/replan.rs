@@ -587,25 +587,26 @@ impl Replanner {
         let mut last = heading;
         while k != self.goal && out.len() <= most {
             let (x, y) = self.xy(k);
-            let mut best: Option<(u64, bool, bool, usize, (i64, i64))> = None;
+            let mut best: Option<(u64, bool, bool, usize)> = None;
             for &step in &STEPS {
                 if let Some((m, c)) = self.edge(&moves, x, y, step) {
                     let gm = self.settled(m);
                     if gm != INF {
                         let turn = last != Some((step.0, step.1));
-                        let cand = (u64::from(c) + u64::from(gm), !step.2, turn, m, (step.0, step.1));
+                        let cand = (u64::from(c) + u64::from(gm), !step.2, turn, m);
                         if best.is_none_or(|b| cand < b) {
                             best = Some(cand);
                         }
                     }
                 }
             }
-            let Some((_, _, _, m, step)) = best else { break };
+            let Some((_, _, _, m)) = best else { break };
             if self.settled(m) >= self.settled(k) && self.settled(k) != INF {
                 break; // not downhill: nothing settled further on
             }
+            let (mx, my) = self.xy(m);
+            last = Some((mx - x, my - y));
             k = m;
-            last = Some(step);
             out.push(k);
         }
         out
