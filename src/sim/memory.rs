@@ -9,30 +9,37 @@
 //! the reactive layers and never remembered. Cells near a marked cell are inflated for the
 //! agent's disc: within the hard radius they cannot be crossed, and within the clearance
 //! margin beyond it they cost more the closer they are (in [`BANDS`] steps), so that paths keep
-//! to the middle of doors and corridors. The way to the goal is an A* path over the grid with
-//! unknown cells taken as free (planning with the free-space assumption: each new obstacle
+//! to the middle of doors and corridors. The way to the goal is a shortest way over the grid
+//! with unknown cells taken as free (planning with the free-space assumption: each new obstacle
 //! either leaves the path clear or is remembered, so the agent never tries the same blocked
-//! way twice and, in a finite world, reaches any goal it can reach). The planner's goal
-//! seeking then steers toward a waypoint on that path instead of straight at the goal.
+//! way twice and, in a finite world, reaches any goal it can reach). The search is D* Lite
+//! ([`replan`]): it runs from the goal toward the agent once, and afterwards a newly marked
+//! cell repairs only the distances it changes, so a plan costs what changed, not the distance
+//! to the goal. The planner's goal seeking then steers toward a waypoint on that way instead
+//! of straight at the goal.
 //!
 //! The memory is the disc's: a body that needs more room (the character keeps a margin) may
 //! be held up where the grid shows a way. An agent held up in one place for long has its range
 //! sensor measure the way across the path just ahead, and gaps narrower than its body passes
 //! are remembered as obstacles too ([`Memory::close_gaps_ahead`]), so it plans round them.
 //!
-//! The path is kept between steps and planned again only when a newly remembered obstacle
-//! touches it or the agent strays from it; a new plan replaces the path only when it is
-//! clearly shorter, so two ways round an obstacle of about the same length do not take turns.
+//! The first [`KEPT_M`] of the way are kept as a path between steps (topped up from the
+//! search's distances as the agent goes; beyond, the way is the search's best) and planned
+//! again only when a newly remembered obstacle touches the path or the agent strays from it;
+//! a new plan replaces the path only when it is clearly shorter than the kept path and the best
+//! way on from its end, so two ways round an obstacle of about the same length do not take
+//! turns. The remaining length is the path's plus the search's cost of the way on.
 //! The waypoint is the farthest point of the path within reach in clear sight, with the margin
 //! kept when that leaves one at least a metre ahead; before a door or corridor narrower than the
 //! margin, the agent instead pursues the gap's middle line as its sensor measures it
 //! ([`Memory::heading_with`]), so it enters along it. The grid grows as the agent explores.
-//! Everything is deterministic: plain vectors, ties broken by cell index.
+//! Everything is deterministic: plain vectors, integer costs, ties broken as [`replan`] says.
 
-use dary_heap::QuaternaryHeap;
-use std::cmp::Reverse;
+mod replan;
 
 use glam::DVec2;
+
+use replan::{BAND, HARD, MARKED, Replanner, UNIT};
 
 /// Tuning of the memory. Every field documents its default.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,7 +55,8 @@ pub struct MemoryParams {
     pub waypoint_m: f64,
     /// Plan again when the agent is farther than this from its path, metres (1.0).
     pub stray_m: f64,
-    /// Most cells one plan may expand before giving up (4,000,000).
+    /// Most cells one plan may take from the search's queue before giving up for this step
+    /// (4,000,000; the next plan goes on from there).
     pub max_expansions: usize,
 }
 
@@ -104,8 +112,18 @@ const SIDE_RAYS: usize = 12;
 /// Widest way across that counts as a gap to line up for, metres.
 const GAP_MEASURE_M: f64 = 2.0;
 
+/// Length of the way ahead kept as points, metres; beyond, the way follows the search's
+/// distances, which repairs keep up to date.
+const KEPT_M: f64 = 12.0;
+
+/// The kept way is extended when less than this much of it is left, metres.
+const REFILL_M: f64 = 6.0;
+
 /// Cells added around the known area when the grid grows.
-const GROW_CELLS: i64 = 40;
+const GROW_CELLS: i64 = 48;
+
+/// A side of the grid grows by at least its size over this when it grows.
+const GROW_SHARE: i64 = 4;
 
 /// Where goal seeking steers: toward a waypoint on the remembered way.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -145,10 +163,16 @@ pub struct Memory {
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
-    /// The current path, world points from near the agent to the goal.
+    /// The way ahead, world points from near the agent: to the goal, or [`KEPT_M`] of it,
+    /// the rest left to the search's distances.
     path: Vec<DVec2>,
+    /// Whether the path ends at the goal.
+    complete: bool,
+    /// Cost of the way on from the path's last point when it does not end at the goal,
+    /// metres.
+    tail_m: f64,
     /// Corners of a box holding every point of the path (the path only shrinks between
-    /// plans).
+    /// plans and extensions).
     path_box: (DVec2, DVec2),
     /// The last search found no way to the goal.
     failed: bool,
@@ -156,117 +180,7 @@ pub struct Memory {
     stale: bool,
     /// Plans made so far.
     pub plans: u32,
-    scratch: Search,
-}
-
-/// The eight steps of the search: offsets and whether the step is diagonal.
-const STEPS: [(i64, i64, bool); 8] = [
-    (1, 0, false),
-    (-1, 0, false),
-    (0, 1, false),
-    (0, -1, false),
-    (1, 1, true),
-    (1, -1, true),
-    (-1, 1, true),
-    (-1, -1, true),
-];
-
-/// The moves a search from `start` to cell `goal` may make over the cells.
-struct Moves<'a> {
-    cells: &'a [u8],
-    nx: i64,
-    ny: i64,
-    goal: usize,
-    start: (i64, i64),
-    /// Closed cells the agent may cross to get out of the inflation it stands in: those
-    /// within this many cells of the start.
-    escape: i64,
-}
-
-impl Moves<'_> {
-    /// The cell that `step` from cell `(x, y)` enters, if the search may take it.
-    #[inline(always)]
-    fn step(&self, x: i64, y: i64, (dx, dy, diagonal): (i64, i64, bool)) -> Option<usize> {
-        let (mx, my) = (x + dx, y + dy);
-        if mx < 0 || my < 0 || mx >= self.nx || my >= self.ny {
-            return None;
-        }
-        let m = (my * self.nx + mx) as usize;
-        (self.enterable(m, mx, my, self.cells[m]) && !(diagonal && self.squeezed(x, y, mx, my))).then_some(m)
-    }
-
-    /// Whether the search may enter cell `m` at `(mx, my)`, in state `cell`. The agent may
-    /// stand in inflated cells (close to a wall): it may leave them, but closed cells are
-    /// crossed only within the disc's reach of where it stands, never through a wall.
-    #[inline(always)]
-    fn enterable(&self, m: usize, mx: i64, my: i64, cell: u8) -> bool {
-        cell & HARD == 0
-            || m == self.goal
-            || (cell & MARKED == 0 && (mx - self.start.0).abs().max((my - self.start.1).abs()) <= self.escape)
-    }
-
-    /// Whether a diagonal step from `(x, y)` to `(mx, my)` squeezes between two closed cells.
-    #[inline(always)]
-    fn squeezed(&self, x: i64, y: i64, mx: i64, my: i64) -> bool {
-        self.cells[(y * self.nx + mx) as usize] & self.cells[(my * self.nx + x) as usize] & HARD != 0
-    }
-}
-
-/// A cell's bit: a ray hit an obstacle in it.
-const MARKED: u8 = 0x10;
-
-/// A cell's bit: it cannot be crossed.
-const HARD: u8 = 0x20;
-
-/// A cell's bits holding its band of the margin.
-const BAND: u8 = 0x03;
-
-/// Reused A* state (generation stamps avoid clearing it).
-#[derive(Debug, Clone, Default)]
-struct Search {
-    nodes: Vec<Node>,
-    generation: u32,
-    open: QuaternaryHeap<Reverse<u64>>,
-}
-
-impl Search {
-    /// Starts a search over `n` cells: the stamp its reached cells get, which no cell has yet.
-    fn begin(&mut self, n: usize) -> u32 {
-        if self.nodes.len() != n {
-            self.nodes = vec![Node::default(); n];
-            self.generation = 0;
-        }
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            self.nodes.iter_mut().for_each(|x| x.stamp = 0);
-            self.generation = 1;
-        }
-        self.generation
-    }
-}
-
-/// A cell's state in the search: reached in the search of this generation, at this cost, from
-/// this parent.
-#[derive(Debug, Clone, Copy, Default)]
-struct Node {
-    stamp: u32,
-    cost: f32,
-    parent: u32,
-}
-
-/// An open cell of the search as one integer key: its estimate `f` (never negative, so its
-/// bits order as the number does) above its index, so that the least key is the least `f`, ties
-/// to the lowest cell.
-struct Open;
-
-impl Open {
-    fn key(f: f32, cell: usize) -> u64 {
-        (u64::from(if f > 0.0 { f } else { 0.0 }.to_bits()) << 32) | cell as u64
-    }
-
-    fn unkey(key: u64) -> (f32, usize) {
-        (f32::from_bits((key >> 32) as u32), (key & 0xffff_ffff) as usize)
-    }
+    planner: Replanner,
 }
 
 /// The cells a remembered obstacle point may inflate for a disc of `radius` with a clearance
@@ -320,11 +234,13 @@ impl Memory {
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
+            complete: false,
+            tail_m: 0.0,
             path_box: (DVec2::ZERO, DVec2::ZERO),
             failed: false,
             stale: true,
             plans: 0,
-            scratch: Search::default(),
+            planner: Replanner::new(replan::step_costs(params.margin_cost, BANDS)),
         }
     }
 
@@ -348,10 +264,14 @@ impl Memory {
             return;
         }
         let (nx, ny) = (self.nx as i64, self.ny as i64);
-        let lo_x = (i - GROW_CELLS).min(0);
-        let lo_y = (j - GROW_CELLS).min(0);
-        let hi_x = (i + GROW_CELLS + 1).max(nx);
-        let hi_y = (j + GROW_CELLS + 1).max(ny);
+        // A side grows by a share of the grid as well, so that an agent exploring far from
+        // where it started copies the grid a number of times that grows only with the log of
+        // its size.
+        let (gx, gy) = (GROW_CELLS.max(nx / GROW_SHARE), GROW_CELLS.max(ny / GROW_SHARE));
+        let lo_x = (i - gx).min(0);
+        let lo_y = (j - gy).min(0);
+        let hi_x = (i + gx + 1).max(nx);
+        let hi_y = (j + gy + 1).max(ny);
         let (wx, wy) = ((hi_x - lo_x) as usize, (hi_y - lo_y) as usize);
         let mut cells = vec![0u8; wx * wy];
         for y in 0..ny {
@@ -360,6 +280,7 @@ impl Memory {
             cells[to..to + nx as usize].copy_from_slice(&self.cells[from..from + nx as usize]);
         }
         self.origin -= DVec2::new(-lo_x as f64, -lo_y as f64) * self.params.cell_m;
+        self.planner.grow(self.nx, self.ny, wx, wy, ((-lo_x) as usize, (-lo_y) as usize));
         (self.nx, self.ny, self.cells) = (wx, wy, cells);
         // Cells the path passes keep their world positions; the plan stays valid.
     }
@@ -377,6 +298,7 @@ impl Memory {
         if changed {
             self.cells[k] |= MARKED;
             self.known += 1;
+            self.planner.changed(k);
         }
         let c = self.params.cell_m;
         let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
@@ -393,6 +315,7 @@ impl Memory {
             let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
             if cell != old {
                 self.cells[n] = cell;
+                self.planner.changed(n);
                 changed = true;
             }
         }
@@ -486,8 +409,12 @@ impl Memory {
             .map(|(k, p)| (k, p.distance_squared(from)))
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))?
             .0;
-        // Drop what is behind.
+        // Drop what is behind, and look far enough ahead.
         self.path.drain(..start);
+        self.refill(from);
+        if self.path.is_empty() {
+            return None;
+        }
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
         let (waypoint, through_gap) = match self.line_up(from, span, &reach) {
@@ -495,7 +422,7 @@ impl Memory {
             None => (self.farthest_waypoint(from, sight, &reach), false),
         };
         let remaining: f64 =
-            from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+            from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>() + self.tail_m;
         let to = waypoint - from;
         if to.length() < 1e-9 {
             let to = self.goal - from;
@@ -744,8 +671,11 @@ impl Memory {
         Some(depth)
     }
 
-    /// A* from `from` to the goal over the grid (unknown cells free, hard cells closed, cells
-    /// in the margin dearer); the path is kept as world points (the goal itself last).
+    /// Plans the way from `from` to the goal over the grid (unknown cells free, hard cells
+    /// closed, cells in the margin dearer): the search settles the agent's cell, and the path
+    /// follows its distances for [`KEPT_M`] (the goal itself last when it gets there). With
+    /// `keep`, the current way (its path, then the search's best way on from the path's end)
+    /// stays unless the new one is clearly shorter.
     fn plan(&mut self, from: DVec2, keep: bool) {
         self.plans += 1;
         self.stale = false;
@@ -755,142 +685,122 @@ impl Memory {
         let (si, sj) = self.cell_of(from);
         self.include(si, sj);
         let (gi, gj) = self.cell_of(self.goal);
-        let (si, sj) = self.cell_of(from);
-        let (Some(start), Some(goal)) = (self.index(si, sj), self.index(gi, gj)) else { return };
-        let c = self.params.cell_m as f32;
-        let octile = |x: i64, y: i64| -> f32 {
-            let (dx, dy) = ((x - gi).abs() as f32, (y - gj).abs() as f32);
-            c * (dx.max(dy) + (std::f32::consts::SQRT_2 - 1.0) * dx.min(dy))
-        };
-        // No way is shorter than the straight octile distance (every step of the search costs
-        // at least its length): when the kept way is within the switching allowance of that,
-        // no new plan could replace it, and the search is skipped.
+        let start = self.cell_of(from);
+        if !self.planner.ready() {
+            self.planner.begin(self.nx, self.ny, (gi, gj), start, self.reach_cells);
+        }
+        // After a search that found no way, the next is likely to find none either: a plain
+        // flood over the same moves tells at a fraction of the search's cost.
+        if self.failed && !self.planner.reaches(&self.cells, start) {
+            return;
+        }
+        // No way is shorter than the straight octile distance: when the kept way reaches the
+        // goal within the switching allowance of that, no new plan could replace it, and the
+        // search waits for a plan that could.
+        let (gi, gj) = self.cell_of(self.goal);
+        let octile = {
+            let (dx, dy) = ((start.0 - gi).abs() as f64, (start.1 - gj).abs() as f64);
+            self.params.cell_m * (dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy))
+        } as f32;
         if keep
+            && self.complete
+            && !old.is_empty()
             && let Some(old_cost) = self.path_cost(from, &old)
-            && old_cost <= octile(si, sj) * (1.0 - 1e-4) * (1.0 + SWITCH_SHARE) + SWITCH_M
+            && old_cost <= octile * (1.0 - 2e-4) * (1.0 + SWITCH_SHARE) + SWITCH_M
         {
             self.path = old;
             return;
         }
-        // After a search that found no way, the next is likely to find none either: a plain
-        // flood over the same moves tells at a fraction of the search's cost.
-        if self.failed && !self.reaches(start, goal, (si, sj)) {
+        let budget = self.params.max_expansions;
+        let Some(cost) = self.planner.settle(&self.cells, start, start, budget) else {
+            self.failed = true;
             return;
-        }
-        let s = &mut self.scratch;
-        let gen_ = s.begin(self.nx * self.ny);
-        let (nodes, open) = (&mut s.nodes, &mut s.open);
-        open.clear();
-        nodes[start] = Node { stamp: gen_, cost: 0.0, parent: start as u32 };
-        open.push(Reverse(Open::key(octile(si, sj), start)));
-        // Closed cells the agent may cross to get out of the inflation it stands in.
-        let escape = self.reach_cells;
-        // The cost of a straight and of a diagonal step into a cell of each band.
-        let margin_cost = self.params.margin_cost as f32 / f32::from(BANDS);
-        let step_cost: [[f32; 2]; BAND as usize + 1] = std::array::from_fn(|band| {
-            let extra = margin_cost * f32::from(band as u8);
-            [c * 1.0 * (1.0 + extra), c * std::f32::consts::SQRT_2 * (1.0 + extra)]
-        });
-        let (nx, ny) = (self.nx as i64, self.ny as i64);
-        let cells = &self.cells;
-        let grid = Moves { cells, nx, ny, goal, start: (si, sj), escape };
-        let mut expanded = 0usize;
-        let mut found = false;
-        while let Some(Reverse(key)) = open.pop() {
-            let (f, k) = Open::unkey(key);
-            let g = nodes[k].cost;
-            let (x, y) = ((k as i64) % nx, (k as i64) / nx);
-            if f > g + octile(x, y) + 1e-3 {
-                continue; // an outdated entry
-            }
-            if k == goal {
-                found = true;
-                break;
-            }
-            expanded += 1;
-            if expanded > self.params.max_expansions {
-                break;
-            }
-            for &(dx, dy, diagonal) in &STEPS {
-                let (mx, my) = (x + dx, y + dy);
-                if mx < 0 || my < 0 || mx >= nx || my >= ny {
-                    continue;
-                }
-                let m = (my * nx + mx) as usize;
-                let cell = cells[m];
-                if !grid.enterable(m, mx, my, cell) || (diagonal && grid.squeezed(x, y, mx, my)) {
-                    continue;
-                }
-                let ng = g + step_cost[usize::from(cell & BAND)][usize::from(diagonal)];
-                let node = &mut nodes[m];
-                if node.stamp != gen_ || ng < node.cost {
-                    *node = Node { stamp: gen_, cost: ng, parent: k as u32 };
-                    open.push(Reverse(Open::key(ng + octile(mx, my), m)));
-                }
-            }
-        }
-        self.failed = !found;
-        if !found {
-            return;
-        }
-        let cost = self.scratch.nodes[goal].cost;
+        };
+        self.failed = false;
+        let cost = self.metres(cost) as f32;
         // Two ways round an obstacle often cost about the same: keep going the way already
         // chosen unless the new one is clearly shorter, so that the agent does not swing
         // between them.
         if keep
-            && let Some(old_cost) = self.path_cost(from, &old)
+            && let Some(old_cost) = self.way_cost(from, &old)
             && old_cost <= cost * (1.0 + SWITCH_SHARE) + SWITCH_M
         {
             self.path = old;
             return;
         }
-        let s = &mut self.scratch;
-        let mut cells = vec![goal];
-        let mut k = goal;
-        while k != start {
-            k = s.nodes[k].parent as usize;
-            cells.push(k);
+        self.path.clear();
+        self.complete = false;
+        self.extend(start);
+    }
+
+    /// Metres of `cost` units of the search.
+    fn metres(&self, cost: u32) -> f64 {
+        f64::from(cost) * self.params.cell_m / f64::from(UNIT)
+    }
+
+    /// Cost of following `path` from `from` and then the search's best way on from its end
+    /// (as the search counts it), or `None` when it crosses a closed cell or no way goes on.
+    fn way_cost(&mut self, from: DVec2, path: &[DVec2]) -> Option<f32> {
+        let along = self.path_cost(from, path)?;
+        if self.complete {
+            return Some(along);
         }
-        cells.reverse();
+        let end = self.cell_of(*path.last()?);
+        self.index(end.0, end.1)?;
+        let on = self.planner.settle(&self.cells, self.cell_of(from), end, self.params.max_expansions)?;
+        Some(along + self.metres(on) as f32)
+    }
+
+    /// Extends the path from the settled cell `end` (its last point's, or the agent's when it is
+    /// empty) along the search's distances to [`KEPT_M`] of way, or to the goal.
+    fn extend(&mut self, end: (i64, i64)) {
+        let most = (KEPT_M / self.params.cell_m).ceil() as usize;
+        // The way goes on as its last step went.
+        let heading = match self.path[..] {
+            [.., a, b] => {
+                let ((ai, aj), (bi, bj)) = (self.cell_of(a), self.cell_of(b));
+                Some((bi - ai, bj - aj)).filter(|&(di, dj)| di.abs() <= 1 && dj.abs() <= 1 && (di, dj) != (0, 0))
+            }
+            _ => None,
+        };
+        let cells = self.planner.descend(&self.cells, end, most.saturating_sub(self.path.len()), heading);
+        let skip = usize::from(!self.path.is_empty());
         let nx = self.nx;
-        self.path = cells.iter().map(|&k| self.centre((k % nx) as i64, (k / nx) as i64)).collect();
-        if let Some(last) = self.path.last_mut() {
-            *last = self.goal;
+        for &k in &cells[skip..] {
+            self.path.push(self.centre((k % nx) as i64, (k / nx) as i64));
+        }
+        let last = *cells.last().unwrap_or(&0);
+        let (gi, gj) = self.cell_of(self.goal);
+        self.complete = self.index(gi, gj) == Some(last);
+        self.tail_m = if self.complete { 0.0 } else { self.metres(self.planner.distance(last)) };
+        if self.complete
+            && let Some(p) = self.path.last_mut()
+        {
+            *p = self.goal;
         }
         self.path_box =
             self.path.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
     }
 
-    /// Whether the search from cell `start` (at `(si, sj)`) can reach cell `goal` at all.
-    #[inline(never)]
-    fn reaches(&mut self, start: usize, goal: usize, (si, sj): (i64, i64)) -> bool {
-        let s = &mut self.scratch;
-        let stamp = s.begin(self.nx * self.ny);
-        let nx = self.nx as i64;
-        let grid =
-            Moves { cells: &self.cells, nx, ny: self.ny as i64, goal, start: (si, sj), escape: self.reach_cells };
-        // Depth first, the steps toward the goal tried first: where there is a way, it is
-        // usually found about as fast as it is long.
-        let (gx, gy) = ((goal as i64 % nx - si) as f64, (goal as i64 / nx - sj) as f64);
-        let mut steps = STEPS;
-        steps.sort_by(|a, b| (a.0 as f64 * gx + a.1 as f64 * gy).total_cmp(&(b.0 as f64 * gx + b.1 as f64 * gy)));
-        s.nodes[start].stamp = stamp;
-        let mut todo = vec![start];
-        while let Some(k) = todo.pop() {
-            if k == goal {
-                return true;
-            }
-            let (x, y) = ((k as i64) % nx, (k as i64) / nx);
-            for &step in &steps {
-                if let Some(m) = grid.step(x, y, step)
-                    && s.nodes[m].stamp != stamp
-                {
-                    s.nodes[m].stamp = stamp;
-                    todo.push(m);
-                }
-            }
+    /// Tops the path up to [`KEPT_M`] when less than [`REFILL_M`] of it is left and it does
+    /// not reach the goal; a way that no longer goes on is planned again.
+    fn refill(&mut self, from: DVec2) {
+        if self.complete || self.path.is_empty() {
+            return;
         }
-        false
+        let left: f64 = from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+        if left >= REFILL_M {
+            return;
+        }
+        let end = self.cell_of(self.path[self.path.len() - 1]);
+        let agent = self.cell_of(from);
+        if self.index(end.0, end.1).is_none() || self.index(agent.0, agent.1).is_none() {
+            return;
+        }
+        match self.planner.settle(&self.cells, agent, end, self.params.max_expansions) {
+            Some(_) => self.extend(end),
+            None => self.plan(from, false),
+        }
     }
 
     /// Extra cost per metre of crossing cell `k` (its depth in the margin).
@@ -1019,8 +929,12 @@ mod tests {
                 m.include(gi, gj);
                 let (si, sj) = m.cell_of(from);
                 let (gi, gj) = m.cell_of(goal);
-                let (start, end) = (m.index(si, sj).unwrap(), m.index(gi, gj).unwrap());
-                let flood = m.reaches(start, end, (si, sj));
+                m.index(si, sj).unwrap();
+                m.index(gi, gj).unwrap();
+                if !m.planner.ready() {
+                    m.planner.begin(m.nx, m.ny, (gi, gj), (si, sj), m.reach_cells);
+                }
+                let flood = m.planner.reaches(&m.cells, (si, sj));
                 m.failed = false;
                 m.plan(from, false);
                 assert_eq!(flood, !m.path.is_empty(), "from {from}");
