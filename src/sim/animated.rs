@@ -344,6 +344,10 @@ fn feet_keep_room(
     })
 }
 
+/// Candidates the last resort plans the upper body for, best first (each failed plan searches
+/// its whole roadmap).
+const LAST_RESORT_TRIES: usize = 3;
+
 /// Clearance standing or turning on the spot may give up below the margin, metres (the pelvis
 /// shifts over the feet).
 const IN_PLACE_SLACK_M: f64 = 0.02;
@@ -541,7 +545,8 @@ impl Chooser for LookAhead<'_> {
             let first = ranked.first().copied().unwrap_or(0);
             let feet = key(first).0;
             let mut least_bad = (first, f64::NEG_INFINITY);
-            for a in ranked.into_iter().take_while(|&a| key(a).0 == feet && key(a).1 > f64::NEG_INFINITY) {
+            let tier = ranked.into_iter().take_while(|&a| key(a).0 == feet && key(a).1 > f64::NEG_INFINITY);
+            for a in tier.take(LAST_RESORT_TRIES) {
                 let choice = self.choice(db, at, a);
                 match self.upper.as_mut().map_or(Ok(()), |(u, _)| u.settles(db, at, choice)) {
                     Ok(()) => return a,
