@@ -1,6 +1,7 @@
 //! Many rows at once: [`Inference::process_columns`] evaluates an engine on columns of inputs
 //! (one value per row) and writes columns of outputs, with the same results, bit for bit, as
-//! [`Inference::process`] called row after row.
+//! [`Inference::process`] called row after row (the inference of seed 000 §3.1, for arrays of
+//! inputs from Python and batch tools).
 //!
 //! Rows go in chunks of [`CHUNK`]. When every enabled rule block fires by general activation
 //! and every proposition reads an input (the common case: no rule reads an output), a chunk is

@@ -1,5 +1,6 @@
 //! Incremental shortest paths over the memory's grid: D* Lite (Koenig and Likhachev, 2002),
-//! searching from the goal back toward the agent.
+//! searching from the goal back toward the agent. Like the memory it serves, it goes beyond
+//! seed 000 §3.1, which steers without a map.
 //!
 //! Every cell holds `g`, its distance to the goal as last settled, and `rhs`, the best of its
 //! moves' costs plus their targets' `g`; a cell whose two differ is *inconsistent* and waits
