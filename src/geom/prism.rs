@@ -8,14 +8,26 @@
 //! distance is `√(max(u, 0)² + max(v, 0)²)` when either is positive, and `max(u, v)` (the
 //! shallower way out, negative) inside.
 //!
-//! A capsule is a segment and a radius. The signed distance to a convex set is a convex
-//! function, so along the segment it has one minimum; golden-section search over the segment's
-//! parameter narrows it to a width of 10⁻¹⁵ of the segment, and the capsule's clearance is that
-//! minimum less the radius (negative: the capsule reaches that far in).
+//! A capsule is a segment and a radius; its clearance is the segment's least signed distance
+//! less the radius (negative: the capsule reaches that far in). For a polygon outline the
+//! least signed distance is exact in closed form:
+//! - Inside, the prism's signed distance is the largest of its faces' plane distances, each
+//!   linear along the segment, so the segment's deepest point solves a one-dimensional linear
+//!   programme: by Helly's theorem in one dimension the least maximum of the lines is the
+//!   largest least maximum of any two of them, each found where the two cross.
+//! - When that least maximum is positive the segment misses the prism, and the distance of two
+//!   disjoint convex sets is reached at an end of the segment or against one of the prism's
+//!   edges (a face's interior is reached only by a segment parallel to it, which then reaches
+//!   the face's edge or ends over it), so it is the least of the ends' distances and the
+//!   segment–segment distances to the edges.
+//!
+//! For a circle outline the signed distance along the segment is still convex, with one
+//! minimum, and golden-section search over the segment's parameter narrows it to 4·10⁻⁹ of the
+//! segment.
 
 use glam::{DVec2, DVec3};
 
-use super::Shape;
+use super::{ConvexPolygon, Shape};
 
 /// A vertical prism: `base` from `z_min` to `z_max` (metres, `z_min < z_max`).
 #[derive(Debug, Clone, Copy)]
@@ -39,7 +51,7 @@ pub struct Capsule {
     pub radius: f64,
 }
 
-/// Golden-section steps: the bracket shrinks by 0.618 each, to about 4·10⁻⁹ of the segment
+/// Golden-section steps (circle outlines): the bracket shrinks by 0.618 each, to about 4·10⁻⁹ of the segment
 /// after 40 (nanometres on a bone).
 const GOLDEN_STEPS: usize = 40;
 
@@ -55,6 +67,58 @@ impl Prism<'_> {
     /// Signed distance from the segment `a`–`b` to the prism, metres, and the parameter
     /// `t ∈ [0, 1]` of the segment's point where it is reached.
     pub fn segment_distance(&self, a: DVec3, b: DVec3) -> (f64, f64) {
+        if a == b {
+            return (self.signed_distance(a), 0.0);
+        }
+        match self.base {
+            Shape::Polygon(poly) => self.polygon_segment_distance(poly, a, b),
+            Shape::Circle { .. } => self.golden_segment_distance(a, b),
+        }
+    }
+
+    /// [`Prism::segment_distance`] for a polygon outline, in closed form (module docs).
+    fn polygon_segment_distance(&self, poly: &ConvexPolygon, a: DVec3, b: DVec3) -> (f64, f64) {
+        // Each face's plane distance along the segment, `c + s·t`: the outline's edges (their
+        // outward normals, the interior on their left), then the bottom and the top.
+        let d = b - a;
+        let mut lines = [(0.0f64, 0.0f64); MAX_LINES];
+        let vertices = poly.vertices();
+        let k = vertices.len() + 2;
+        if k > MAX_LINES {
+            return self.golden_segment_distance(a, b);
+        }
+        for (i, (p, q)) in poly.edges().enumerate() {
+            let e = q - p;
+            let n = DVec2::new(e.y, -e.x) / e.length();
+            lines[i] = (n.dot(DVec2::new(a.x, a.y) - p), n.dot(DVec2::new(d.x, d.y)));
+        }
+        lines[k - 2] = (self.z_min - a.z, -d.z);
+        lines[k - 1] = (a.z - self.z_max, d.z);
+        let lines = &lines[..k];
+        let (deepest, t) = least_maximum(lines);
+        if deepest <= 0.0 {
+            return (deepest, t);
+        }
+        // Apart: the ends, then every edge of the prism.
+        let mut best = (self.signed_distance(a), 0.0);
+        let db = self.signed_distance(b);
+        if db < best.0 {
+            best = (db, 1.0);
+        }
+        let (lo, hi) = (self.z_min, self.z_max);
+        for (p, q) in poly.edges() {
+            for (u, v) in [(p.extend(lo), q.extend(lo)), (p.extend(hi), q.extend(hi)), (p.extend(lo), p.extend(hi))] {
+                let (dist, t) = segment_segment(a, b, u, v);
+                if dist < best.0 {
+                    best = (dist, t);
+                }
+            }
+        }
+        best
+    }
+
+    /// [`Prism::segment_distance`] by golden-section search (module docs).
+    fn golden_segment_distance(&self, a: DVec3, b: DVec3) -> (f64, f64) {
         let f = |t: f64| self.signed_distance(a.lerp(b, t));
         if a == b {
             return (f(0.0), 0.0);
@@ -92,6 +156,63 @@ impl Prism<'_> {
     }
 }
 
+/// The most faces an outline may have for the closed form (more: golden-section search).
+const MAX_LINES: usize = 66;
+
+/// The least over `t ∈ [0, 1]` of the largest of the lines `c + s·t`, and a `t` where it is
+/// reached (Helly's theorem in one dimension: the largest such least over pairs of lines).
+fn least_maximum(lines: &[(f64, f64)]) -> (f64, f64) {
+    let at = |(c, s): (f64, f64), t: f64| c + s * t;
+    let mut m = f64::NEG_INFINITY;
+    for (i, &l) in lines.iter().enumerate() {
+        // One line alone: its least over the interval.
+        m = m.max(at(l, 0.0).min(at(l, 1.0)));
+        for &r in &lines[..i] {
+            // Two lines: where they cross if one rises and the other falls, else an end.
+            let (up, down) = if l.1 > r.1 { (l, r) } else { (r, l) };
+            let pair = |t: f64| at(up, t).max(at(down, t));
+            let v = if up.1 > 0.0 && down.1 < 0.0 {
+                let t = ((down.0 - up.0) / (up.1 - down.1)).clamp(0.0, 1.0);
+                pair(t)
+            } else {
+                pair(0.0).min(pair(1.0))
+            };
+            m = m.max(v);
+        }
+    }
+    // A parameter reaching it: the intersection of the lines' intervals at or below `m`.
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for &(c, s) in lines {
+        if s > 0.0 {
+            hi = hi.min((m - c) / s);
+        } else if s < 0.0 {
+            lo = lo.max((m - c) / s);
+        }
+    }
+    let t = if lo <= hi { 0.5 * (lo + hi) } else { lo.min(hi).clamp(0.0, 1.0) };
+    (m, t.clamp(0.0, 1.0))
+}
+
+/// Distance between the segments `a`–`b` and `u`–`v` (the second may not be degenerate), and
+/// the parameter on `a`–`b` of the closest point.
+fn segment_segment(a: DVec3, b: DVec3, u: DVec3, v: DVec3) -> (f64, f64) {
+    let (d1, d2, r) = (b - a, v - u, a - u);
+    let (aa, ee, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    let (c, bb) = (d1.dot(r), d1.dot(d2));
+    let denom = aa * ee - bb * bb;
+    // The closest point of the lines, clamped to the first segment, then to the second.
+    let mut s = if denom > 0.0 { ((bb * f - c * ee) / denom).clamp(0.0, 1.0) } else { 0.0 };
+    let mut t = (bb * s + f) / ee;
+    if t < 0.0 {
+        t = 0.0;
+        s = (-c / aa).clamp(0.0, 1.0);
+    } else if t > 1.0 {
+        t = 1.0;
+        s = ((bb - c) / aa).clamp(0.0, 1.0);
+    }
+    ((a + d1 * s).distance(u + d2 * t), s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,5 +244,28 @@ mod tests {
         assert!((p.signed_distance(DVec3::new(1.0, 2.5, 4.0)) - 1.0f64.hypot(3.0)).abs() < 1e-12);
         let (d, _) = p.segment_distance(DVec3::new(-5.0, 2.5, 0.5), DVec3::new(5.0, 2.5, 0.5));
         assert!((d - 1.0).abs() < 1e-12);
+    }
+
+    proptest::proptest! {
+        /// The closed form agrees with golden-section search over the segment (which can only
+        /// overestimate the least), and the point it names is that far from the prism.
+        #[test]
+        fn the_closed_form_is_the_searched_least(
+            points in proptest::collection::vec((-1.0f64..1.0, -1.0f64..1.0), 3..9),
+            z in (0.0f64..2.0, 0.05f64..1.0),
+            ends in proptest::array::uniform6(-2.0f64..3.0),
+        ) {
+            let pts: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+            let Ok(poly) = ConvexPolygon::hull(&pts) else { return Ok(()) };
+            let base = Shape::Polygon(poly);
+            let prism = Prism { base: &base, z_min: z.0, z_max: z.0 + z.1 };
+            let a = DVec3::new(ends[0], ends[1], ends[2]);
+            let b = DVec3::new(ends[3], ends[4], ends[5]);
+            let (d, t) = prism.segment_distance(a, b);
+            let (g, _) = prism.golden_segment_distance(a, b);
+            proptest::prop_assert!(d <= g + 1e-12 && g - d < 1e-7, "closed {d}, searched {g}");
+            let at = prism.signed_distance(a.lerp(b, t));
+            proptest::prop_assert!((at - d).abs() < 1e-9, "{at} at {t} against {d}");
+        }
     }
 }
