@@ -11,8 +11,8 @@
 //!
 //! **CT-roadmap (§5.2).** A node is a configuration at a frame time of the coming motion (the
 //! pelvis trajectory of the interval about to play, sampled at the animation's frame rate, and
-//! [`LOOK_AHEAD_S`] more going on with its mean motion, so a bend starts before the bar is
-//! reached). Configurations lie on a lattice whose spacing is the most a part may move in one
+//! [`LOOK_AHEAD_S`] more going on with its mean motion, at [`LOOK_AHEAD_MIN_SPEED_MPS`] at
+//! least, so a bend starts before the bar is reached). Configurations lie on a lattice whose spacing is the most a part may move in one
 //! frame ([`WAIST_STEP_DEG`], [`ARM_STEP_DEG`]), so an edge joins a node only to neighbours at
 //! the next frame, forward in time. The roadmap starts from the common moves — toward the
 //! objective, holding, and one joint a step either way — and the best-first search takes the
@@ -61,6 +61,10 @@ pub const MARGIN_M: f64 = 0.005;
 pub const LEG_ROOM_M: f64 = 0.01;
 /// How far past the interval's end the planner looks ahead, seconds.
 pub const LOOK_AHEAD_S: f64 = 1.0;
+/// The look-ahead goes on at least this fast, metres per second (a walking pace), so even at
+/// a crawl it reaches a bar from as far away as a bend must begin: bending down carries the
+/// head some 0.6 m forward, so a bend begun with the bar that close is too late.
+pub const LOOK_AHEAD_MIN_SPEED_MPS: f64 = 1.0;
 /// Nodes one part's search may try before giving up.
 pub const MAX_NODES: usize = 40_000;
 /// Obstacles farther than this from the hips in the plan view cannot touch the upper body,

@@ -18,7 +18,7 @@ use crate::anim::body::{Part, Parts, UpperBody, UpperConfig};
 use crate::anim::player::{Choice, SwitchPoint};
 use crate::anim::{Database, Pose, Skeleton};
 use crate::geom::Capsule;
-use crate::upper::{LOOK_AHEAD_S, Plan, Refusal, Scratch, Solids, UpperPlanner};
+use crate::upper::{LOOK_AHEAD_MIN_SPEED_MPS, LOOK_AHEAD_S, Plan, Refusal, Scratch, Solids, UpperPlanner};
 use crate::world::Terrain;
 
 /// What the upper body did over an episode.
@@ -141,10 +141,10 @@ impl UpperBodyState {
         self.refused = None;
     }
 
-    /// Plans choice `a` at `at` (looking ahead as if walking on at `speed` at least): true
-    /// when the upper body can play it.
+    /// Plans choice `a` at `at` (looking ahead as if walking on at `speed`, and at
+    /// [`LOOK_AHEAD_MIN_SPEED_MPS`] at least): true when the upper body can play it.
     pub fn admits(&mut self, db: &Database, at: &SwitchPoint, a: Choice, speed: f64) -> bool {
-        self.speed = speed;
+        self.speed = speed.max(LOOK_AHEAD_MIN_SPEED_MPS);
         match self.plan_for(db, at, a, LOOK_AHEAD_S) {
             Ok(plan) => {
                 self.pending = Some((a, plan));
