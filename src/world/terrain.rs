@@ -231,57 +231,7 @@ impl Terrain {
     /// from `x0_m` to `x1_m` along it (X = distance from `origin`): straight pieces with gaps
     /// over holes. `None` when there is no ground at all in that range.
     pub fn profile(&self, origin: DVec2, dir: DVec2, x0_m: f64, x1_m: f64) -> Option<GroundProfile> {
-        let dir = dir.normalize_or_zero();
-        if dir == DVec2::ZERO || !(x1_m > x0_m) || !origin.is_finite() {
-            return None;
-        }
-        let at = |t: f64| origin + dir * t;
-        let mut cuts = vec![x0_m, x1_m];
-        for f in self.features() {
-            for part in &f.parts {
-                if let Some((a, b)) = clip(part, origin, dir, x0_m, x1_m) {
-                    cuts.push(a);
-                    cuts.push(b);
-                }
-            }
-            if let (FeatureKind::Stairs { treads, .. }, Some((c, a, h))) = (f.kind, f.axis()) {
-                let rate = dir.dot(a);
-                if rate.abs() > 1e-12 {
-                    for k in 1..treads {
-                        let s = -h + 2.0 * h * k as f64 / treads as f64;
-                        let t = (s - (origin - c).dot(a)) / rate;
-                        if t > x0_m && t < x1_m {
-                            cuts.push(t);
-                        }
-                    }
-                }
-            }
-        }
-        cuts.sort_by(f64::total_cmp);
-        cuts.dedup_by(|b, a| (*b - *a).abs() <= PROFILE_EPS_M);
-        let mut pieces: Vec<GroundPiece> = Vec::new();
-        for w in cuts.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            if b - a <= PROFILE_EPS_M {
-                continue;
-            }
-            let mid = at(0.5 * (a + b));
-            let (za, zb) = match self.top_at(mid) {
-                None => (0.0, 0.0),
-                Some(f) => {
-                    let tread = match f.kind {
-                        FeatureKind::Stairs { treads, .. } => Some(tread_of(f.along(mid), treads)),
-                        _ => None,
-                    };
-                    match (f.height_at(at(a), tread), f.height_at(at(b), tread)) {
-                        (Some(za), Some(zb)) => (za, zb),
-                        _ => continue,
-                    }
-                }
-            };
-            push_piece(&mut pieces, GroundPiece { x0_m: a, z0_m: za, x1_m: b, z1_m: zb });
-        }
-        GroundProfile::new(pieces).ok()
+        self.strip_profile(origin, dir, x0_m, x1_m, &[0.0], 0.0)
     }
 
     /// The ground under a strip along the path: the profiles of the lines at `offsets` metres
@@ -289,6 +239,11 @@ impl Terrain {
     /// [`Terrain::profile`]), taken together. There is ground at X only where every line has
     /// some and their heights there differ by at most `tolerance_m`, at the highest of them; a
     /// hole or an edge under any line is a gap. `None` when no ground is left.
+    ///
+    /// One pass cuts every line: each feature's outline (and a flight's tread edges) is
+    /// clipped against all the lines, the cuts of all of them sorted together, and between two
+    /// neighbouring cuts every line's ground is one straight piece, read off the feature on
+    /// top there.
     pub fn strip_profile(
         &self,
         origin: DVec2,
@@ -298,22 +253,49 @@ impl Terrain {
         offsets: &[f64],
         tolerance_m: f64,
     ) -> Option<GroundProfile> {
-        let side = dir.normalize_or_zero().perp();
-        let lines: Vec<GroundProfile> =
-            offsets.iter().map(|&o| self.profile(origin + side * o, dir, x0_m, x1_m)).collect::<Option<_>>()?;
-        let mut cuts: Vec<f64> = lines.iter().flat_map(|l| l.pieces().iter().flat_map(|p| [p.x0_m, p.x1_m])).collect();
+        let dir = dir.normalize_or_zero();
+        if dir == DVec2::ZERO || !(x1_m > x0_m) || !origin.is_finite() || offsets.is_empty() {
+            return None;
+        }
+        let side = dir.perp();
+        let lines: Vec<DVec2> = offsets.iter().map(|&o| origin + side * o).collect();
+        if !lines.iter().all(|l| l.is_finite()) {
+            return None;
+        }
+        let mut cuts = vec![x0_m, x1_m];
+        for f in self.features() {
+            for &o in &lines {
+                for part in &f.parts {
+                    if let Some((a, b)) = clip(part, o, dir, x0_m, x1_m) {
+                        cuts.push(a);
+                        cuts.push(b);
+                    }
+                }
+                if let (FeatureKind::Stairs { treads, .. }, Some((c, a, h))) = (f.kind, f.axis()) {
+                    let rate = dir.dot(a);
+                    if rate.abs() > 1e-12 {
+                        for k in 1..treads {
+                            let s = -h + 2.0 * h * k as f64 / treads as f64;
+                            let t = (s - (o - c).dot(a)) / rate;
+                            if t > x0_m && t < x1_m {
+                                cuts.push(t);
+                            }
+                        }
+                    }
+                }
+            }
+        }
         cuts.sort_by(f64::total_cmp);
         cuts.dedup_by(|b, a| (*b - *a).abs() <= PROFILE_EPS_M);
         let mut pieces: Vec<GroundPiece> = Vec::new();
         'span: for w in cuts.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let mid = 0.5 * (a + b);
+            if b - a <= PROFILE_EPS_M {
+                continue;
+            }
             let (mut za, mut zb) = ([f64::INFINITY, f64::NEG_INFINITY], [f64::INFINITY, f64::NEG_INFINITY]);
-            for line in &lines {
-                let Some(p) = line.pieces().iter().find(|p| p.x0_m < mid && mid < p.x1_m) else {
-                    continue 'span;
-                };
-                let (ha, hb) = (p.height_at(a), p.height_at(b));
+            for &o in &lines {
+                let Some((ha, hb)) = self.span_heights(o, dir, a, b) else { continue 'span };
                 za = [za[0].min(ha), za[1].max(ha)];
                 zb = [zb[0].min(hb), zb[1].max(hb)];
             }
@@ -323,6 +305,23 @@ impl Terrain {
             push_piece(&mut pieces, GroundPiece { x0_m: a, z0_m: za[1], x1_m: b, z1_m: zb[1] });
         }
         GroundProfile::new(pieces).ok()
+    }
+
+    /// The ground's heights at X = `a` and `b` on the line through `origin` along `dir`, where
+    /// no cut lies between them (one feature on top all along): `None` over a hole.
+    fn span_heights(&self, origin: DVec2, dir: DVec2, a: f64, b: f64) -> Option<(f64, f64)> {
+        let at = |t: f64| origin + dir * t;
+        let mid = at(0.5 * (a + b));
+        match self.top_at(mid) {
+            None => Some((0.0, 0.0)),
+            Some(f) => {
+                let tread = match f.kind {
+                    FeatureKind::Stairs { treads, .. } => Some(tread_of(f.along(mid), treads)),
+                    _ => None,
+                };
+                Some((f.height_at(at(a), tread)?, f.height_at(at(b), tread)?))
+            }
+        }
     }
 }
 
