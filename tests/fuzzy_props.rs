@@ -22,8 +22,12 @@ fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
     xs.sort_by(f64::total_cmp);
     let height = if unit(rng) < 0.2 { uniform(rng, 0.3, 1.0) } else { 1.0 };
     let span = hi - lo;
-    match (unit(rng) * 6.0) as usize {
+    match (unit(rng) * 9.0) as usize {
         0 => Term::Triangle { a: xs[0], b: xs[1], c: xs[3], height },
+        6 if unit(rng) < 0.5 => Term::Arc { start: xs[0], end: xs[3], height },
+        6 => Term::Arc { start: xs[3], end: xs[0], height },
+        7 => Term::SemiEllipse { start: xs[0], end: xs[3], height },
+        8 => Term::Binary { start: xs[1], direction: pick(rng, &[f64::INFINITY, f64::NEG_INFINITY]), height },
         1 => Term::Trapezoid { a: xs[0], b: xs[1], c: xs[2], d: xs[3], height },
         2 => Term::Gaussian { mean: xs[1], sd: uniform(rng, 0.05, 0.4) * span, height },
         3 => Term::Bell { center: xs[1], width: uniform(rng, 0.05, 0.4) * span, slope: uniform(rng, 0.5, 3.0), height },

@@ -4,7 +4,8 @@
 //! [`crate::fuzzy::Inference`] runs it.
 //!
 //! Invariant: an engine that passed [`Engine::validate`] has unique variable names, unique
-//! term names per variable, non-empty ranges, and every rule refers to existing variables
+//! term names per variable, ranges that are not inverted (and of some width where an integral defuzzifier samples
+//! them), and every rule refers to existing variables
 //! and terms; evaluating it never panics, whatever the inputs.
 
 pub use super::variable::{DEFAULT_RESOLUTION, Defuzzifier, InputVariable, NamedTerm, OutputVariable, WeightedKind};
@@ -349,9 +350,6 @@ fn check_range(what: &str, name: &str, min: f64, max: f64) -> Result<(), EngineE
     if min > max {
         return err(format!("{what} '{name}' has an inverted range [{min}, {max}]"));
     }
-    if min == max {
-        return err(format!("{what} '{name}' has an empty range [{min}, {max}]"));
-    }
     Ok(())
 }
 
@@ -445,10 +443,10 @@ impl Engine {
         check_terms("output variable", &v.name, &v.terms, true, i)?;
         if let Some(d) = v.defuzzifier
             && d.resolution().is_some()
-            && !(v.minimum.is_finite() && v.maximum.is_finite())
+            && !(v.minimum.is_finite() && v.maximum.is_finite() && v.minimum < v.maximum)
         {
             return err(format!(
-                "output variable '{}' uses {} and needs a finite range, found [{}, {}]",
+                "output variable '{}' uses {} and needs a finite range of some width, found [{}, {}]",
                 v.name,
                 d.name(),
                 v.minimum,
@@ -472,7 +470,7 @@ impl Engine {
                     (!ok).then(|| {
                         format!(
                             "term '{}' ({}) of output variable '{}' cannot be used by a weighted defuzzifier: \
-                             use Constant or Linear terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave)",
+                             use Constant or Linear terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave, Arc)",
                             t.name,
                             t.term.class_name(),
                             v.name
@@ -634,9 +632,14 @@ pub(crate) mod tests {
         let mut e = two_by_two();
         e.outputs[0].minimum = 100.0;
         assert!(e.validate().unwrap_err().message.contains("inverted"));
+        // A range of one point is an input's business (fuzzylite reads such files), but an
+        // integral defuzzifier has nothing to sample over it.
         let mut e = two_by_two();
-        e.inputs[0].maximum = 0.0;
-        assert!(e.validate().unwrap_err().message.contains("empty"));
+        e.inputs[0].maximum = e.inputs[0].minimum;
+        assert!(e.validate().is_ok());
+        let mut e = two_by_two();
+        e.outputs[0].maximum = e.outputs[0].minimum;
+        assert!(e.validate().unwrap_err().message.contains("of some width"));
         let mut e = two_by_two();
         e.outputs[1].terms[1].name = "slow".into();
         assert!(e.validate().unwrap_err().message.contains("two terms"));

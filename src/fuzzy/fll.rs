@@ -256,8 +256,8 @@ fn range(words: &[&str]) -> Result<(f64, f64), String> {
             if a.is_nan() || b.is_nan() {
                 return Err("a range bound is NaN".into());
             }
-            if a >= b {
-                return Err(format!("range [{a}, {b}] is empty or inverted"));
+            if a > b {
+                return Err(format!("range [{a}, {b}] is inverted"));
             }
             Ok((a, b))
         }

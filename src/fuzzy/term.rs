@@ -51,6 +51,14 @@ pub enum Term {
     Linear { coefficients: Vec<f64> },
     /// Piecewise-linear through `(x, y)` points sorted by `x`; clamped outside.
     Discrete { points: Vec<(f64, f64)>, height: f64 },
+    /// Quarter circle from 0 at `start` to 1 at `end` (centred on `end`, radius
+    /// `|end − start|`), 1 past `end`, 0 before `start`; either direction.
+    Arc { start: f64, end: f64, height: f64 },
+    /// Upper half of an ellipse over `[start, end]` (1 at the middle), 0 outside.
+    SemiEllipse { start: f64, end: f64, height: f64 },
+    /// 1 from `start` on toward `direction` (any number above `start`, usually +∞, or below
+    /// it, usually −∞), 0 elsewhere.
+    Binary { start: f64, direction: f64, height: f64 },
 }
 
 /// Sigmoid without height: `1 / (1 + exp(-slope·(x-inflection)))`.
@@ -105,6 +113,9 @@ impl Term {
             Term::Constant { .. } => "Constant",
             Term::Linear { .. } => "Linear",
             Term::Discrete { .. } => "Discrete",
+            Term::Arc { .. } => "Arc",
+            Term::SemiEllipse { .. } => "SemiEllipse",
+            Term::Binary { .. } => "Binary",
         }
     }
 
@@ -191,6 +202,18 @@ impl Term {
                 let height = fixed(2)?;
                 Term::Concave { inflection: p[0], end: p[1], height }
             }
+            "arc" => {
+                let height = fixed(2)?;
+                Term::Arc { start: p[0], end: p[1], height }
+            }
+            "semiellipse" => {
+                let height = fixed(2)?;
+                Term::SemiEllipse { start: p[0].min(p[1]), end: p[0].max(p[1]), height }
+            }
+            "binary" => {
+                let height = fixed(2)?;
+                Term::Binary { start: p[0], direction: p[1], height }
+            }
             "constant" => match p {
                 [value] => Term::Constant { value: *value },
                 _ => return Err(format!("term {class} takes 1 parameter, got {}", p.len())),
@@ -225,6 +248,8 @@ impl Term {
             Term::Triangle { a, b, c, height } => (vec![*a, *b, *c], *height),
             Term::Trapezoid { a, b, c, d, height } => (vec![*a, *b, *c, *d], *height),
             Term::Rectangle { start, end, height }
+            | Term::Arc { start, end, height }
+            | Term::SemiEllipse { start, end, height }
             | Term::Ramp { start, end, height }
             | Term::SShape { start, end, height }
             | Term::ZShape { start, end, height } => (vec![*start, *end], *height),
@@ -245,6 +270,7 @@ impl Term {
                 (vec![*center, *width], *height)
             }
             Term::Concave { inflection, end, height } => (vec![*inflection, *end], *height),
+            Term::Binary { start, direction, height } => (vec![*start, *direction], *height),
             Term::Constant { value } => (vec![*value], 1.0),
             Term::Linear { coefficients } => (coefficients.clone(), 1.0),
             Term::Discrete { points, height } => (points.iter().flat_map(|(x, y)| [*x, *y]).collect(), *height),
@@ -273,6 +299,8 @@ impl Term {
                 Term::Triangle { .. } | Term::Trapezoid { .. } => {
                     (i == 0 && *p == f64::NEG_INFINITY) || (i == last && *p == f64::INFINITY)
                 }
+                // Binary's direction is usually ±∞.
+                Term::Binary { .. } => i == 1 && p.is_infinite(),
                 _ => false,
             };
             if !p.is_finite() && !shoulder {
@@ -296,7 +324,15 @@ impl Term {
         {
             return Err(format!("width {w} must be positive"));
         }
-        Ok(())
+        match *self {
+            Term::Arc { start, end, .. } | Term::SemiEllipse { start, end, .. } if start == end => {
+                Err(format!("start and end are both {start}; the term needs a width"))
+            }
+            Term::Binary { start, direction, .. } if start == direction => {
+                Err(format!("direction {direction} equals the start; it must lie above or below it"))
+            }
+            _ => Ok(()),
+        }
     }
 
     /// Every parameter, the height last (1 for terms without one).
@@ -319,7 +355,10 @@ impl Term {
             | Term::Sigmoid { .. }
             | Term::Spike { .. }
             | Term::Cosine { .. }
-            | Term::Concave { .. } => 2,
+            | Term::Concave { .. }
+            | Term::Arc { .. }
+            | Term::SemiEllipse { .. }
+            | Term::Binary { .. } => 2,
             Term::Triangle { .. } | Term::Bell { .. } => 3,
             Term::Trapezoid { .. }
             | Term::GaussianProduct { .. }
@@ -438,12 +477,35 @@ impl Term {
             }
             Term::Constant { .. } | Term::Linear { .. } => return f64::NAN,
             Term::Discrete { ref points, height } => (interpolate(points, x), height),
+            Term::Arc { start, end, height } => {
+                let r = end - start;
+                let inside = if r > 0.0 { start <= x && x <= end } else { end <= x && x <= start };
+                let past = if r > 0.0 { x > end } else { x < end };
+                let y = if inside {
+                    (r * r - (x - end) * (x - end)).max(0.0).sqrt() / r.abs()
+                } else if past {
+                    1.0
+                } else {
+                    0.0
+                };
+                (y, height)
+            }
+            Term::SemiEllipse { start, end, height } => {
+                let r = 0.5 * (end - start);
+                let c = start + r;
+                let y = if start <= x && x <= end { (r * r - (x - c) * (x - c)).max(0.0).sqrt() / r } else { 0.0 };
+                (y, height)
+            }
+            Term::Binary { start, direction, height } => {
+                let on = (direction > start && x >= start) || (direction < start && x <= start);
+                (if on { 1.0 } else { 0.0 }, height)
+            }
         };
         height * shape
     }
 
     /// The crisp value whose membership equals `degree`, for the monotonic terms used by
-    /// Tsukamoto inference (`Ramp`, `Sigmoid`, `SShape`, `ZShape`, `Concave`); `None` for
+    /// Tsukamoto inference (`Ramp`, `Sigmoid`, `SShape`, `ZShape`, `Concave`, `Arc`); `None` for
     /// terms without a unique inverse.
     pub fn tsukamoto(&self, degree: f64) -> Option<f64> {
         let w = degree;
@@ -469,6 +531,11 @@ impl Term {
                 }
             }
             Term::Concave { inflection, end, height } => 2.0 * end - inflection + height * (inflection - end) / w,
+            Term::Arc { start, end, height } => {
+                let r = end - start;
+                let y = w * r / height;
+                end - r.signum() * (r * r - y * y).max(0.0).sqrt()
+            }
             _ => return None,
         })
     }
@@ -477,7 +544,12 @@ impl Term {
     pub fn is_monotonic(&self) -> bool {
         matches!(
             self,
-            Term::Ramp { .. } | Term::Sigmoid { .. } | Term::SShape { .. } | Term::ZShape { .. } | Term::Concave { .. }
+            Term::Ramp { .. }
+                | Term::Sigmoid { .. }
+                | Term::SShape { .. }
+                | Term::ZShape { .. }
+                | Term::Concave { .. }
+                | Term::Arc { .. }
         )
     }
 }
@@ -619,5 +691,40 @@ mod tests {
         assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 5.0]).is_err());
         assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 0.5]).is_ok());
         assert!(check("Discrete", &[0.0, 0.0, 1.0, inf]).is_err());
+    }
+
+    #[test]
+    fn arcs_ellipses_and_binaries_by_hand() {
+        let half = 3f64.sqrt() / 2.0;
+        // An arc rising from 0 to 2 (centred on 2), and one falling from 2 to 0.
+        let up = t("Arc", &[0.0, 2.0]);
+        let down = t("Arc", &[2.0, 0.0]);
+        for (x, want) in [(-1.0, 0.0), (0.0, 0.0), (1.0, half), (2.0, 1.0), (3.0, 1.0)] {
+            assert!((up.membership(x) - want).abs() < 1e-15, "up at {x}");
+            assert!((down.membership(2.0 - x) - want).abs() < 1e-15, "down at {}", 2.0 - x);
+        }
+        for share in [0.1, 0.5, 0.9] {
+            for (arc, h) in [(&up, 1.0), (&down, 1.0), (&t("Arc", &[1.0, 4.0, 0.8]), 0.8)] {
+                let w = share * h;
+                let x = arc.tsukamoto(w).unwrap();
+                assert!((arc.membership(x) - w).abs() < 1e-12, "{arc:?} at {w}: {x}");
+            }
+        }
+        let e = t("SemiEllipse", &[2.0, 0.0, 0.5]);
+        assert_eq!(e.parameters(), vec![0.0, 2.0, 0.5]);
+        for (x, want) in [(-0.1, 0.0), (0.0, 0.0), (0.5, 0.5 * half), (1.0, 0.5), (2.0, 0.0), (2.1, 0.0)] {
+            assert!((e.membership(x) - want).abs() < 1e-15, "ellipse at {x}");
+        }
+        let right = t("Binary", &[0.5, f64::INFINITY]);
+        let left = t("Binary", &[0.5, f64::NEG_INFINITY]);
+        assert!(right.check().is_ok() && left.check().is_ok());
+        assert_eq!([0.4, 0.5, 0.6].map(|x| right.membership(x)), [0.0, 1.0, 1.0]);
+        assert_eq!([0.4, 0.5, 0.6].map(|x| left.membership(x)), [1.0, 1.0, 0.0]);
+        assert!(right.membership(f64::NAN).is_nan());
+        // Degenerate ones are refused by the check.
+        assert!(t("Arc", &[1.0, 1.0]).check().is_err());
+        assert!(t("SemiEllipse", &[1.0, 1.0]).check().is_err());
+        assert!(t("Binary", &[1.0, 1.0]).check().is_err());
+        assert!(t("Binary", &[f64::INFINITY, 1.0]).check().is_err());
     }
 }
