@@ -21,8 +21,8 @@
 //!   the face's edge or ends over it), so it is the least of the ends' distances and the
 //!   segment–segment distances to the edges.
 //!
-//! For a circle outline the signed distance along the segment is still convex, with one
-//! minimum, and golden-section search over the segment's parameter narrows it to 4·10⁻⁹ of the
+//! For a circle outline (and an outline of more than [`MAX_LINES`] − 2 edges) the signed
+//! distance along the segment is still convex, with one minimum, and golden-section search over the segment's parameter narrows it to 4·10⁻⁹ of the
 //! segment.
 
 use glam::{DVec2, DVec3};
