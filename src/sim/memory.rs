@@ -160,6 +160,10 @@ pub struct Memory {
     radius: f64,
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
+    /// How near (squared, metres², a little wide for rounding) a remembered point must come to
+    /// a cell's centre to change the cell, by the cell's band and whether it is closed
+    /// (`band | closed << 2`); below zero for a cell no point can change.
+    change_within: [f64; 8],
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
@@ -200,6 +204,24 @@ fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
     out
 }
 
+/// [`Memory::change_within`] for a disc of `radius` with a clearance `margin` (cells of side
+/// `c`): a point changes a cell of band `b < BANDS` only when it lies nearer its centre than
+/// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), and closes a cell not yet
+/// closed only nearer than the closing distance. Widened by a relative and an absolute
+/// nanometre, so rounding never leaves out a cell [`Memory::mark`]'s exact test would change.
+fn change_within(radius: f64, margin: f64, c: f64) -> [f64; 8] {
+    let closed_within = radius - CLOSE_GIVE_CELLS * c;
+    std::array::from_fn(|k| {
+        let (band, closed) = ((k & 3) as u8, k & 4 != 0);
+        let deeper = (band < BANDS).then(|| radius + f64::from(BANDS - band) * margin / f64::from(BANDS));
+        let close = (!closed).then_some(closed_within);
+        match deeper.into_iter().chain(close).fold(f64::NEG_INFINITY, f64::max) {
+            lim if lim > 0.0 => (lim * (1.0 + 1e-9) + 1e-9).powi(2),
+            _ => f64::NEG_INFINITY,
+        }
+    })
+}
+
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
 /// a point seen: a gap three quarters of a cell wider than the disc (0.69 m for the 0.6 m disc)
 /// then always keeps a cell centre open across it, however the grid falls, and stays open. A
@@ -231,6 +253,7 @@ impl Memory {
             inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
             radius: radius.max(0.0),
             reach_cells,
+            change_within: change_within(radius.max(0.0), params.margin_m.max(0.0), c),
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
@@ -303,15 +326,36 @@ impl Memory {
         let c = self.params.cell_m;
         let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
         let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        // Most cells around a surface seen again are already as deep as this point makes
+        // them: a cell can only change within the distance its state still allows
+        // (`self.change_within`, squared, a little wide for rounding), so the exact band is
+        // worked out only for cells nearer than that.
+        let all_in = i - self.reach_cells >= 0
+            && j - self.reach_cells >= 0
+            && i + self.reach_cells < self.nx as i64
+            && j + self.reach_cells < self.ny as i64;
         for &(dx, dy) in &self.inflation {
-            let Some(n) = self.index(i + dx, j + dy) else { continue };
-            let d = self.centre(i + dx, j + dy).distance(p);
+            let n = if all_in {
+                (j + dy) as usize * self.nx + (i + dx) as usize
+            } else {
+                let Some(n) = self.index(i + dx, j + dy) else { continue };
+                n
+            };
+            let old = self.cells[n];
+            let within = self.change_within[usize::from((old & BAND) | ((old & HARD) >> 3))];
+            let q = self.centre(i + dx, j + dy) - p;
+            let d2 = q.dot(q);
+            if !(d2 < within) {
+                continue;
+            }
+            let d = d2.sqrt();
             if d >= radius + margin {
                 continue;
             }
-            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
-            let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
-            let old = self.cells[n];
+            // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as the
+            // clamp of a NaN floor gives).
+            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
+            let band = BANDS - beyond.min(BANDS - 1);
             let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
             if cell != old {
                 self.cells[n] = cell;
