@@ -154,8 +154,6 @@ pub struct Memory {
     cells: Vec<u8>,
     /// Marked cells.
     known: usize,
-    /// The cells a remembered point may inflate, as offsets from its cell.
-    inflation: Vec<(i64, i64)>,
     /// The agent's radius, metres.
     radius: f64,
     /// Cells a marked cell's inflation may reach, to a side.
@@ -185,23 +183,6 @@ pub struct Memory {
     /// Plans made so far.
     pub plans: u32,
     planner: Replanner,
-}
-
-/// The cells a remembered obstacle point may inflate for a disc of `radius` with a clearance
-/// `margin` (cells of side `c`), as offsets from the point's cell: every cell whose centre may
-/// lie within `radius + margin` of a point somewhere in that cell.
-fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
-    let reach = ((radius + margin) / c).ceil() as i64 + 1;
-    let mut out = Vec::new();
-    for dy in -reach..=reach {
-        for dx in -reach..=reach {
-            let d = (((dx.abs() - 1).max(0).pow(2) + (dy.abs() - 1).max(0).pow(2)) as f64).sqrt() * c;
-            if d < radius + margin {
-                out.push((dx, dy));
-            }
-        }
-    }
-    out
 }
 
 /// [`Memory::change_within`] for a disc of `radius` with a clearance `margin` (cells of side
@@ -250,7 +231,6 @@ impl Memory {
             ny,
             cells: vec![0; nx * ny],
             known: 0,
-            inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
             radius: radius.max(0.0),
             reach_cells,
             change_within: change_within(radius.max(0.0), params.margin_m.max(0.0), c),
@@ -329,38 +309,50 @@ impl Memory {
         // Most cells around a surface seen again are already as deep as this point makes
         // them: a cell can only change within the distance its state still allows
         // (`self.change_within`, squared, a little wide for rounding), so the exact band is
-        // worked out only for cells nearer than that.
-        let all_in = i - self.reach_cells >= 0
-            && j - self.reach_cells >= 0
-            && i + self.reach_cells < self.nx as i64
-            && j + self.reach_cells < self.ny as i64;
-        for &(dx, dy) in &self.inflation {
-            let n = if all_in {
-                (j + dy) as usize * self.nx + (i + dx) as usize
-            } else {
-                let Some(n) = self.index(i + dx, j + dy) else { continue };
-                n
-            };
-            let old = self.cells[n];
-            let within = self.change_within[usize::from((old & BAND) | ((old & HARD) >> 3))];
-            let q = self.centre(i + dx, j + dy) - p;
-            let d2 = q.dot(q);
-            if !(d2 < within) {
+        // worked out only for cells nearer than that. Row by row, only the cells whose centres
+        // may lie within the widest of those distances are visited.
+        let widest = self.change_within.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let reach = self.reach_cells;
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let (ox, oy) = (self.origin.x, self.origin.y);
+        let Memory { cells, planner, change_within, .. } = self;
+        for jj in (j - reach).max(0)..=(j + reach).min(ny - 1) {
+            // The same centre as `self.centre(_, jj)`, and the same distance as `distance`.
+            let qy = (oy + (jj as f64 + 0.5) * c) - p.y;
+            let qy2 = qy * qy;
+            let rest = widest - qy2;
+            if !(rest > 0.0) {
                 continue;
             }
-            let d = d2.sqrt();
-            if d >= radius + margin {
+            let h = rest.sqrt() + 1e-9;
+            let lo = crate::geom::floor_i64((p.x - h - ox) / c - 0.5).max(i - reach).max(0);
+            let hi = crate::geom::floor_i64((p.x + h - ox) / c - 0.5).saturating_add(1).min(i + reach).min(nx - 1);
+            if lo > hi {
                 continue;
             }
-            // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as the
-            // clamp of a NaN floor gives).
-            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
-            let band = BANDS - beyond.min(BANDS - 1);
-            let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
-            if cell != old {
-                self.cells[n] = cell;
-                self.planner.changed(n);
-                changed = true;
+            let row = jj as usize * nx as usize;
+            for (ii, cell) in (lo..=hi).zip(&mut cells[row + lo as usize..=row + hi as usize]) {
+                let old = *cell;
+                let within = change_within[usize::from((old & BAND) | ((old & HARD) >> 3))];
+                let qx = (ox + (ii as f64 + 0.5) * c) - p.x;
+                let d2 = qx * qx + qy2;
+                if !(d2 < within) {
+                    continue;
+                }
+                let d = d2.sqrt();
+                if d >= radius + margin {
+                    continue;
+                }
+                // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as the
+                // clamp of a NaN floor gives).
+                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
+                let band = BANDS - beyond.min(BANDS - 1);
+                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+                if new != old {
+                    *cell = new;
+                    planner.changed(row + ii as usize);
+                    changed = true;
+                }
             }
         }
         if changed && !self.stale {
