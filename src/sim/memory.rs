@@ -159,9 +159,9 @@ pub struct Memory {
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
     /// How near (squared, metres², a little wide for rounding) a remembered point must come to
-    /// a cell's centre to change the cell, by the cell's band and whether it is closed
-    /// (`band | closed << 2`); below zero for a cell no point can change.
-    change_within: [f64; 8],
+    /// a cell's centre to change the cell, by the cell's state (its byte in `cells`); below
+    /// zero for a cell no point can change.
+    change_within: Box<[f64; 256]>,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
@@ -190,17 +190,17 @@ pub struct Memory {
 /// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), and closes a cell not yet
 /// closed only nearer than the closing distance. Widened by a relative and an absolute
 /// nanometre, so rounding never leaves out a cell [`Memory::mark`]'s exact test would change.
-fn change_within(radius: f64, margin: f64, c: f64) -> [f64; 8] {
+fn change_within(radius: f64, margin: f64, c: f64) -> Box<[f64; 256]> {
     let closed_within = radius - CLOSE_GIVE_CELLS * c;
-    std::array::from_fn(|k| {
-        let (band, closed) = ((k & 3) as u8, k & 4 != 0);
+    Box::new(std::array::from_fn(|k| {
+        let (band, closed) = (k as u8 & BAND, k as u8 & HARD != 0);
         let deeper = (band < BANDS).then(|| radius + f64::from(BANDS - band) * margin / f64::from(BANDS));
         let close = (!closed).then_some(closed_within);
         match deeper.into_iter().chain(close).fold(f64::NEG_INFINITY, f64::max) {
             lim if lim > 0.0 => (lim * (1.0 + 1e-9) + 1e-9).powi(2),
             _ => f64::NEG_INFINITY,
         }
-    })
+    }))
 }
 
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
@@ -311,7 +311,8 @@ impl Memory {
         // (`self.change_within`, squared, a little wide for rounding), so the exact band is
         // worked out only for cells nearer than that. Row by row, only the cells whose centres
         // may lie within the widest of those distances are visited.
-        let widest = self.change_within.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        // An empty cell is the one a point changes from farthest.
+        let widest = self.change_within[0];
         let reach = self.reach_cells;
         let (nx, ny) = (self.nx as i64, self.ny as i64);
         let (ox, oy) = (self.origin.x, self.origin.y);
@@ -331,9 +332,19 @@ impl Memory {
                 continue;
             }
             let row = jj as usize * nx as usize;
-            for (ii, cell) in (lo..=hi).zip(&mut cells[row + lo as usize..=row + hi as usize]) {
+            // A first test with the centres stepped along the row (rounding far below the
+            // nanometre `change_within` leaves), then the exact one with each centre as
+            // `self.centre` gives it.
+            let mut qx_row = (ox + (lo as f64 + 0.5) * c) - p.x;
+            for (at, cell) in cells[row + lo as usize..=row + hi as usize].iter_mut().enumerate() {
                 let old = *cell;
-                let within = change_within[usize::from((old & BAND) | ((old & HARD) >> 3))];
+                let within = change_within[usize::from(old)];
+                let near = qx_row * qx_row + qy2 < within;
+                qx_row += c;
+                if !near {
+                    continue;
+                }
+                let ii = lo + at as i64;
                 let qx = (ox + (ii as f64 + 0.5) * c) - p.x;
                 let d2 = qx * qx + qy2;
                 if !(d2 < within) {
