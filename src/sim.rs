@@ -497,7 +497,7 @@ impl Simulation {
                 };
                 let world = &self.world;
                 let scratch = &mut self.scratch;
-                let span = |p: DVec2, d: DVec2| world.ray_cast(p, d, range, scratch).unwrap_or(f64::INFINITY);
+                let span = |p: DVec2, d: &[DVec2], out: &mut [f64]| world.ray_casts(p, d, range, scratch, out);
                 let reach = |h: f64| match follow::swept_ahead(scan, h, radius, 0.0, range) {
                     Some(f) if f < range => f,
                     _ => f64::INFINITY,

@@ -1,6 +1,6 @@
 //! The fast all-around sensing gives exactly what the plain one gives: the fan of rays cast
-//! against the obstacles gathered once (`World::ray_fan`) hits where each ray cast on its own
-//! (`World::ray_cast`) hits, and the windowed swept free distances (`swept_free`) equal the
+//! against the obstacles gathered once (`World::ray_fan`), and any bundle of rays from one
+//! point (`World::ray_casts`), hit where each ray cast on its own (`World::ray_cast`) hits, and the windowed swept free distances (`swept_free`) equal the
 //! per-ray definition (`swept_free_along`) on every ray, bit for bit.
 
 use glam::DVec2;
@@ -29,6 +29,26 @@ proptest! {
         for (k, &dir) in fan.rays.iter().enumerate() {
             let one = world.ray_cast(origin, dir, max, &mut scratch).unwrap_or(f64::INFINITY);
             prop_assert_eq!(out[k].to_bits(), one.to_bits(), "ray {} of {} from {}", k, n, origin);
+        }
+    }
+
+    #[test]
+    fn a_bundle_of_rays_hits_where_each_ray_hits(
+        kind in prop::sample::select(vec![WorldKind::Cluttered, WorldKind::Rooms, WorldKind::Maze, WorldKind::Grid]),
+        seed in 0u64..1000,
+        at in (0.0..1.0f64, 0.0..1.0f64),
+        angles in prop::collection::vec(-4.0..4.0f64, 1..40),
+        max in 0.1..12.0f64,
+    ) {
+        let world = kind::generate(kind, seed).world();
+        let bounds = world.bounds().expect("obstacles");
+        let origin = bounds.min - DVec2::splat(2.0) + (bounds.max - bounds.min + DVec2::splat(4.0)) * DVec2::new(at.0, at.1);
+        let dirs: Vec<DVec2> = angles.iter().map(|&a| DVec2::from_angle(a)).collect();
+        let (mut scratch, mut out) = (Vec::new(), vec![0.0; dirs.len()]);
+        world.ray_casts(origin, &dirs, max, &mut scratch, &mut out);
+        for (k, &dir) in dirs.iter().enumerate() {
+            let one = world.ray_cast(origin, dir, max, &mut scratch).unwrap_or(f64::INFINITY);
+            prop_assert_eq!(out[k].to_bits(), one.to_bits(), "ray {} from {}", k, origin);
         }
     }
 

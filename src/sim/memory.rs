@@ -423,11 +423,12 @@ impl Memory {
     /// in sight is left. `None` when the goal cannot be reached over what is remembered (or
     /// the search gives up).
     pub fn heading(&mut self, from: DVec2, sight: impl Fn(f64) -> f64) -> Option<Aim> {
-        self.heading_with(from, sight, |_, _| f64::INFINITY, |_| f64::INFINITY)
+        self.heading_with(from, sight, |_, _, out: &mut [f64]| out.fill(f64::INFINITY), |_| f64::INFINITY)
     }
 
-    /// [`Memory::heading`] with `span(p, unit)`, how far the way is free from `p` along `unit`
-    /// (the range sensor's measure; infinite when nothing is near), which puts the line a gap
+    /// [`Memory::heading`] with `span(p, units, out)`, how far the way is free from `p` along
+    /// each of `units` into `out` (the range sensor's measure; infinite when nothing is near),
+    /// which puts the line a gap
     /// is entered along through the middle of the gap as measured, not of the grid's cells, and
     /// `reach(heading)`, how far the bare disc can go straight along an absolute heading now
     /// (infinite when nothing limits it), which decides whether an agent standing in the
@@ -436,7 +437,7 @@ impl Memory {
         &mut self,
         from: DVec2,
         sight: impl Fn(f64) -> f64,
-        span: impl FnMut(DVec2, DVec2) -> f64,
+        span: impl FnMut(DVec2, &[DVec2], &mut [f64]),
         reach: impl Fn(f64) -> f64,
     ) -> Option<Aim> {
         let near = self
@@ -538,7 +539,7 @@ impl Memory {
     fn line_up(
         &self,
         from: DVec2,
-        mut span: impl FnMut(DVec2, DVec2) -> f64,
+        mut span: impl FnMut(DVec2, &[DVec2], &mut [f64]),
         reach: &impl Fn(f64) -> f64,
     ) -> Option<DVec2> {
         let mut along = from.distance(self.path[0]);
@@ -578,13 +579,18 @@ impl Memory {
         // obstacle point on either side of the path (rays over each half turn), the way across
         // between the two. Rays square to the path alone would miss a thin row of posts the
         // grid's path crosses aslant.
+        let units: [DVec2; 2 * (SIDE_RAYS + 1)] = std::array::from_fn(|k| {
+            let (side, k) = if k <= SIDE_RAYS { (dir.perp(), k) } else { (-dir.perp(), k - SIDE_RAYS - 1) };
+            let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
+            DVec2::from_angle(turn).rotate(side)
+        });
+        let mut spans = [0.0; 2 * (SIDE_RAYS + 1)];
         let mut measure = |p: DVec2| {
+            span(p, &units, &mut spans);
             let mut near = [None::<DVec2>; 2];
-            for (n, side) in near.iter_mut().zip([dir.perp(), -dir.perp()]) {
-                for k in 0..=SIDE_RAYS {
-                    let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
-                    let u = DVec2::from_angle(turn).rotate(side);
-                    let d = span(p, u);
+            for (s, n) in near.iter_mut().enumerate() {
+                for k in s * (SIDE_RAYS + 1)..(s + 1) * (SIDE_RAYS + 1) {
+                    let (u, d) = (units[k], spans[k]);
                     if d.is_finite() && n.is_none_or(|q: DVec2| d < q.distance(p)) {
                         *n = Some(p + u * d);
                     }
