@@ -185,6 +185,10 @@ pub struct Memory {
     planner: Replanner,
 }
 
+/// Added before truncating a position in cells to take its floor: far more cells than a
+/// point's cell lies from the cells it may change.
+const CELLS_FLOOR: f64 = 1024.0;
+
 /// [`Memory::change_within`] for a disc of `radius` with a clearance `margin` (cells of side
 /// `c`): a point changes a cell of band `b < BANDS` only when it lies nearer its centre than
 /// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), and closes a cell not yet
@@ -316,8 +320,14 @@ impl Memory {
         let reach = self.reach_cells;
         let (nx, ny) = (self.nx as i64, self.ny as i64);
         let (ox, oy) = (self.origin.x, self.origin.y);
+        // `p` in cells from the centre of cell 0, and the rows and columns a centre within
+        // `widest` of it may lie in, a little wide (`cells_floor` is the floor near the grid).
+        let (fx, fy) = ((p.x - ox) / c - 0.5, (p.y - oy) / c - 0.5);
+        let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
+        let spread = widest.max(0.0).sqrt() / c + 1e-6;
+        let rows = (cells_floor(fy - spread).max(j - reach).max(0), (cells_floor(fy + spread) + 1).min(j + reach).min(ny - 1));
         let Memory { cells, planner, change_within, .. } = self;
-        for jj in (j - reach).max(0)..=(j + reach).min(ny - 1) {
+        for jj in rows.0..=rows.1 {
             // The same centre as `self.centre(_, jj)`, and the same distance as `distance`.
             let qy = (oy + (jj as f64 + 0.5) * c) - p.y;
             let qy2 = qy * qy;
@@ -325,9 +335,9 @@ impl Memory {
             if !(rest > 0.0) {
                 continue;
             }
-            let h = rest.sqrt() + 1e-9;
-            let lo = crate::geom::floor_i64((p.x - h - ox) / c - 0.5).max(i - reach).max(0);
-            let hi = crate::geom::floor_i64((p.x + h - ox) / c - 0.5).saturating_add(1).min(i + reach).min(nx - 1);
+            let h = rest.sqrt() / c + 1e-6;
+            let lo = cells_floor(fx - h).max(i - reach).max(0);
+            let hi = (cells_floor(fx + h) + 1).min(i + reach).min(nx - 1);
             if lo > hi {
                 continue;
             }
