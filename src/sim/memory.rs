@@ -325,7 +325,8 @@ impl Memory {
         let (fx, fy) = ((p.x - ox) / c - 0.5, (p.y - oy) / c - 0.5);
         let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
         let spread = widest.max(0.0).sqrt() / c + 1e-6;
-        let rows = (cells_floor(fy - spread).max(j - reach).max(0), (cells_floor(fy + spread) + 1).min(j + reach).min(ny - 1));
+        let rows =
+            (cells_floor(fy - spread).max(j - reach).max(0), (cells_floor(fy + spread) + 1).min(j + reach).min(ny - 1));
         let Memory { cells, planner, change_within, .. } = self;
         for jj in rows.0..=rows.1 {
             // The same centre as `self.centre(_, jj)`, and the same distance as `distance`.
