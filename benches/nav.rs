@@ -49,7 +49,7 @@ fn sense_and_control_cluttered(bencher: Bencher) {
     bencher.bench_local(|| {
         let p = task.start.position + glam::DVec2::new(3.0 * (t * 0.1f64).sin(), 3.0 * (t * 0.13f64).cos());
         world.sense(p, t * 0.2, 0.3, task.goal, &params.layout, &[], &mut scratch, &mut sensed);
-        let c = controller.command(&sensed, false, t, &body);
+        let c = controller.command(&sensed, || false, t, &body);
         t += 0.05;
         black_box(c)
     });

@@ -461,14 +461,6 @@ impl Simulation {
                 &mut self.scratch,
                 &mut agent.sensed,
             );
-            let visible = goal_visible(
-                &self.world,
-                pose.position,
-                agent.task.goal,
-                radius,
-                &self.params.layout,
-                &mut self.scratch,
-            );
             let step_index = (t / dt).round() as usize;
             if agent.scan.is_empty() || step_index.is_multiple_of(self.params.scan_every.max(1)) {
                 scan(
@@ -497,7 +489,7 @@ impl Simulation {
                 };
                 let world = &self.world;
                 let scratch = &mut self.scratch;
-                let span = |p: DVec2, d: DVec2| world.ray_cast(p, d, range, scratch).unwrap_or(f64::INFINITY);
+                let span = |p: DVec2, d: &[DVec2], out: &mut [f64]| world.ray_casts(p, d, range, scratch, out);
                 let reach = |h: f64| match follow::swept_ahead(scan, h, radius, 0.0, range) {
                     Some(f) if f < range => f,
                     _ => f64::INFINITY,
@@ -541,6 +533,9 @@ impl Simulation {
             agent.sensed.through_gap = agent.through_gap;
             agent.sensed.known_obstacles = agent.memory.known();
             agent.sensed.goal_angle = crate::geom::wrap_angle(agent.heading_to_goal - pose.yaw);
+            // Whether the straight way to the goal is open, cast only when the controller asks.
+            let (world, layout, scratch, goal) = (&self.world, &self.params.layout, &mut self.scratch, agent.task.goal);
+            let visible = || goal_visible(world, pose.position, goal, radius, layout, scratch);
             agent.autopilot = agent.controller.command(&agent.sensed, visible, t, &agent.body);
             agent.command = agent.manual.unwrap_or(agent.autopilot);
         }

@@ -264,6 +264,35 @@ impl World {
         }
     }
 
+    /// [`World::ray_cast`] along several unit directions `dirs` from one `origin` at once:
+    /// `out[k]` becomes the distance along `dirs[k]` to the first obstacle hit, or infinity when
+    /// it hits nothing within `max`. The obstacles within `max` are gathered once, and each is
+    /// cast only along the rays that pass its bounding circle. Every hit is the one
+    /// [`World::ray_cast`] finds.
+    pub fn ray_casts(&self, origin: DVec2, dirs: &[DVec2], max: f64, scratch: &mut Vec<usize>, out: &mut [f64]) {
+        out.fill(f64::INFINITY);
+        self.index.query_circle(origin, max, scratch);
+        for &i in scratch.iter() {
+            let Some(bounds) = self.index.aabb(i) else { continue };
+            let to = bounds.center() - origin;
+            let d = to.length();
+            // The bounding circle, a little wide for rounding.
+            let r = 0.5 * (bounds.max - bounds.min).length() + 1e-9 * (1.0 + d);
+            let shape = &self.parts[i].shape;
+            for (dir, o) in dirs.iter().zip(out.iter_mut()) {
+                let along = to.dot(*dir);
+                if along < -r || to.perp_dot(*dir).abs() > r {
+                    continue;
+                }
+                if let Some(t) = shape.ray_cast(origin, *dir, max)
+                    && t < *o
+                {
+                    *o = t;
+                }
+            }
+        }
+    }
+
     /// Distance along the ray from `origin` in unit direction `dir` to the first obstacle hit,
     /// up to `max` (`None`: nothing hit).
     pub fn ray_cast(&self, origin: DVec2, dir: DVec2, max: f64, scratch: &mut Vec<usize>) -> Option<f64> {

@@ -581,8 +581,6 @@ pub struct Player {
     source_pose: Pose,
     pose: Pose,
     globals: Vec<(DVec3, DQuat)>,
-    /// Room for the globals of a pose being solved.
-    scratch_globals: Vec<(DVec3, DQuat)>,
     history: Vec<Vec<DVec3>>,
     recent_jerk: Vec<f64>,
     since_switch: Option<usize>,
@@ -617,7 +615,6 @@ impl Player {
             source_pose: rel.clone(),
             rel,
             globals: Vec::new(),
-            scratch_globals: Vec::new(),
             history: Vec::new(),
             recent_jerk: Vec::new(),
             since_switch: None,
@@ -873,7 +870,7 @@ impl Player {
         let h = 1.0 / self.params.frame_rate;
         let bits = self.contacts_now(db);
         let points = point_positions(&self.globals, db.feet, &db.contact_points);
-        let mut changed = false;
+        let mut changed = [false; 2];
         for (f, pts) in points.iter().enumerate() {
             let down = bits & (contact_bit(f, 0) | contact_bit(f, 1)) != 0;
             let height = |k: usize| pts[k].z - db.point_floor[f][k];
@@ -945,8 +942,9 @@ impl Player {
                 // held point is then put back where it is held, moving the ankle by what it missed.
                 if lock.down {
                     for _ in 0..HELD_POINT_PASSES {
-                        db.skeleton.globals(&self.pose, &mut self.scratch_globals);
-                        let now = point_positions(&self.scratch_globals, db.feet, &db.contact_points)[f][lock.pivot];
+                        // The held point as `point_positions` puts it, from the foot's own chain.
+                        let (ankle, q) = db.skeleton.global_of(&self.pose, db.feet[f]);
+                        let now = ankle + q * db.contact_points[f][lock.pivot];
                         let miss = lock.anchor - now.truncate();
                         if miss.length_squared() < 1e-8 {
                             break;
@@ -955,11 +953,16 @@ impl Player {
                         leg_ik(db, &mut self.pose, &self.globals, db.feet[f], target, rot);
                     }
                 }
-                changed = true;
+                changed[f] = true;
             }
         }
-        if changed {
-            db.skeleton.globals(&self.pose, &mut self.globals);
+        // Foot locking turned only the joints of a leg's hip, knee and ankle.
+        for f in 0..2 {
+            if changed[f] {
+                let joints = db.skeleton.joints();
+                let hip = joints[db.feet[f]].parent.and_then(|knee| joints[knee].parent).unwrap_or(0);
+                db.skeleton.globals_below(&self.pose, hip, &mut self.globals);
+            }
         }
         self.measure(db, h);
     }
@@ -1081,11 +1084,12 @@ fn leg_ik(db: &Database, pose: &mut Pose, g: &[(DVec3, DQuat)], foot: usize, tar
 fn hinged_leg(hip: &super::skeleton::Joint, knee: &super::skeleton::Joint, foot: &super::skeleton::Joint) -> bool {
     use super::skeleton::Channel::{XRotation, YRotation};
     let down = |o: DVec3| o.z < 0.0 && o.truncate().length() <= 1e-9 * o.length();
-    let rotations =
-        |j: &super::skeleton::Joint| j.channels.iter().copied().filter(|c| !c.is_position()).collect::<Vec<_>>();
-    rotations(hip) == [YRotation, XRotation]
-        && rotations(knee) == [YRotation]
-        && rotations(foot) == [YRotation]
+    let rotations = |j: &super::skeleton::Joint, want: &[super::skeleton::Channel]| {
+        j.channels.iter().copied().filter(|c| !c.is_position()).eq(want.iter().copied())
+    };
+    rotations(hip, &[YRotation, XRotation])
+        && rotations(knee, &[YRotation])
+        && rotations(foot, &[YRotation])
         && down(knee.offset)
         && down(foot.offset)
 }

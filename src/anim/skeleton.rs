@@ -178,6 +178,56 @@ impl Skeleton {
         }
     }
 
+    /// Global position and rotation of joint `i` in `pose`: what [`Skeleton::globals`] gives for
+    /// it, worked out along its chain of parents alone.
+    pub fn global_of(&self, pose: &Pose, i: usize) -> (DVec3, DQuat) {
+        let mut chain = [0usize; 64];
+        let mut depth = 0;
+        let mut at = Some(i);
+        while let Some(j) = at {
+            if depth == chain.len() {
+                let mut all = Vec::with_capacity(self.len());
+                self.globals(pose, &mut all);
+                return all[i];
+            }
+            chain[depth] = j;
+            depth += 1;
+            at = self.joints[j].parent;
+        }
+        let mut g = (pose.root, pose.rotations[0]);
+        for &j in chain[..depth].iter().rev().skip(1) {
+            let (pp, pq) = g;
+            g = (pp + pq * self.joints[j].offset, pq * pose.rotations[j]);
+        }
+        g
+    }
+
+    /// Brings `out`, the [`Skeleton::globals`] of a pose that differs from `pose` only in the
+    /// rotations of joint `joint` and the joints below it, up to date with `pose`: only those
+    /// joints are worked out again (parents come before their children).
+    pub fn globals_below(&self, pose: &Pose, joint: usize, out: &mut [(DVec3, DQuat)]) {
+        let (mut small, mut large) = ([false; 256], Vec::new());
+        let below: &mut [bool] = if self.len() <= small.len() {
+            &mut small
+        } else {
+            large.resize(self.len(), false);
+            &mut large
+        };
+        for i in joint..self.len() {
+            let j = &self.joints[i];
+            below[i] = i == joint || j.parent.is_some_and(|p| p >= joint && below[p]);
+            if below[i] {
+                out[i] = match j.parent {
+                    None => (pose.root, pose.rotations[0]),
+                    Some(p) => {
+                        let (pp, pq) = out[p];
+                        (pp + pq * j.offset, pq * pose.rotations[i])
+                    }
+                };
+            }
+        }
+    }
+
     /// Global position of every joint in `pose`.
     pub fn positions(&self, pose: &Pose) -> Vec<DVec3> {
         let mut g = Vec::with_capacity(self.len());

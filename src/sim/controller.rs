@@ -306,8 +306,9 @@ impl LayeredController {
     }
 
     /// The command for what the agent senses at time `t_s`, shaped to what `body` can follow;
-    /// `goal_visible` says whether the straight way to the goal is free.
-    pub fn command(&mut self, s: &Sensed, goal_visible: bool, t_s: f64, body: &dyn Body) -> Command {
+    /// `goal_visible()` says whether the straight way to the goal is free (asked only while
+    /// following a boundary, when leaving it depends on that).
+    pub fn command(&mut self, s: &Sensed, goal_visible: impl FnOnce() -> bool, t_s: f64, body: &dyn Body) -> Command {
         let p = self.params;
         // Progress is measured along the remembered way when there is one (walking away from
         // the goal toward a door is progress), else straight to the goal. Seeing an obstacle
@@ -480,7 +481,7 @@ impl LayeredController {
         f: FollowState,
         step: Option<FollowStep>,
         s: &Sensed,
-        goal_visible: bool,
+        goal_visible: impl FnOnce() -> bool,
         t_s: f64,
     ) -> Mode {
         let p = self.params;
@@ -508,7 +509,7 @@ impl LayeredController {
         let entry = if f.strict { f.entry_distance_m.min(f.best_ever_m) } else { f.entry_distance_m };
         // Closer along the remembered way than at the start (or, with none, straight to a
         // visible goal).
-        let closer = to_go(s) < entry - p.leave_margin_m && (goal_visible || s.route_distance.is_finite());
+        let closer = to_go(s) < entry - p.leave_margin_m && (s.route_distance.is_finite() || goal_visible());
         if closer || reachable || t_s - wall_seen_s > p.wall_lost_s {
             self.last_progress_s = t_s;
             self.best_distance = to_go(s);

@@ -11,7 +11,7 @@
 //! stays with one contour. Gaps too narrow for the grown disc count as wall, so the follower
 //! does not try them; when nothing is open with the margin, the bare disc is tried.
 
-use super::sense::{Fan, swept_free, swept_free_along};
+use super::sense::{Fan, swept_free, swept_free_ahead};
 use crate::geom::wrap_angle;
 
 /// Which side the followed boundary is on.
@@ -121,10 +121,9 @@ pub fn swept_ahead(scan: &[f64], heading: f64, radius: f64, clearance: f64, rang
     let step = std::f64::consts::TAU / n as f64;
     let lo = ((heading.rem_euclid(std::f64::consts::TAU) / step).floor() as usize) % n;
     let fan = Fan::of(n);
-    let dir = |d: usize| fan.turns[d];
     // The two rays of [`swept_free`] around the heading, for the grown disc (obstacle
     // points stay where the scan saw them).
-    let along_ray = |i: usize| swept_free_along(scan, i, radius, radius + clearance, range, dir);
+    let along_ray = |i: usize| swept_free_ahead(scan, i, radius, radius + clearance, range, &fan.turns);
     Some(along_ray(lo).min(along_ray((lo + 1) % n)))
 }
 

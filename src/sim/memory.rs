@@ -154,12 +154,14 @@ pub struct Memory {
     cells: Vec<u8>,
     /// Marked cells.
     known: usize,
-    /// The cells a remembered point may inflate, as offsets from its cell.
-    inflation: Vec<(i64, i64)>,
     /// The agent's radius, metres.
     radius: f64,
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
+    /// How near (squared, metres², a little wide for rounding) a remembered point must come to
+    /// a cell's centre to change the cell, by the cell's state (its byte in `cells`); below
+    /// zero for a cell no point can change.
+    change_within: Box<[f64; 256]>,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
@@ -183,21 +185,26 @@ pub struct Memory {
     planner: Replanner,
 }
 
-/// The cells a remembered obstacle point may inflate for a disc of `radius` with a clearance
-/// `margin` (cells of side `c`), as offsets from the point's cell: every cell whose centre may
-/// lie within `radius + margin` of a point somewhere in that cell.
-fn inflation(radius: f64, margin: f64, c: f64) -> Vec<(i64, i64)> {
-    let reach = ((radius + margin) / c).ceil() as i64 + 1;
-    let mut out = Vec::new();
-    for dy in -reach..=reach {
-        for dx in -reach..=reach {
-            let d = (((dx.abs() - 1).max(0).pow(2) + (dy.abs() - 1).max(0).pow(2)) as f64).sqrt() * c;
-            if d < radius + margin {
-                out.push((dx, dy));
-            }
+/// Added before truncating a position in cells to take its floor: far more cells than a
+/// point's cell lies from the cells it may change.
+const CELLS_FLOOR: f64 = 1024.0;
+
+/// [`Memory::change_within`] for a disc of `radius` with a clearance `margin` (cells of side
+/// `c`): a point changes a cell of band `b < BANDS` only when it lies nearer its centre than
+/// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), and closes a cell not yet
+/// closed only nearer than the closing distance. Widened by a relative and an absolute
+/// nanometre, so rounding never leaves out a cell [`Memory::mark`]'s exact test would change.
+fn change_within(radius: f64, margin: f64, c: f64) -> Box<[f64; 256]> {
+    let closed_within = radius - CLOSE_GIVE_CELLS * c;
+    Box::new(std::array::from_fn(|k| {
+        let (band, closed) = (k as u8 & BAND, k as u8 & HARD != 0);
+        let deeper = (band < BANDS).then(|| radius + f64::from(BANDS - band) * margin / f64::from(BANDS));
+        let close = (!closed).then_some(closed_within);
+        match deeper.into_iter().chain(close).fold(f64::NEG_INFINITY, f64::max) {
+            lim if lim > 0.0 => (lim * (1.0 + 1e-9) + 1e-9).powi(2),
+            _ => f64::NEG_INFINITY,
         }
-    }
-    out
+    }))
 }
 
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
@@ -228,9 +235,9 @@ impl Memory {
             ny,
             cells: vec![0; nx * ny],
             known: 0,
-            inflation: inflation(radius.max(0.0), params.margin_m.max(0.0), c),
             radius: radius.max(0.0),
             reach_cells,
+            change_within: change_within(radius.max(0.0), params.margin_m.max(0.0), c),
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
@@ -303,20 +310,71 @@ impl Memory {
         let c = self.params.cell_m;
         let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
         let closed_within = radius - CLOSE_GIVE_CELLS * c;
-        for &(dx, dy) in &self.inflation {
-            let Some(n) = self.index(i + dx, j + dy) else { continue };
-            let d = self.centre(i + dx, j + dy).distance(p);
-            if d >= radius + margin {
+        // Most cells around a surface seen again are already as deep as this point makes
+        // them: a cell can only change within the distance its state still allows
+        // (`self.change_within`, squared, a little wide for rounding), so the exact band is
+        // worked out only for cells nearer than that. Row by row, only the cells whose centres
+        // may lie within the widest of those distances are visited.
+        // An empty cell is the one a point changes from farthest.
+        let widest = self.change_within[0];
+        let reach = self.reach_cells;
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let (ox, oy) = (self.origin.x, self.origin.y);
+        // `p` in cells from the centre of cell 0, and the rows and columns a centre within
+        // `widest` of it may lie in, a little wide (`cells_floor` is the floor near the grid).
+        let (fx, fy) = ((p.x - ox) / c - 0.5, (p.y - oy) / c - 0.5);
+        let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
+        let spread = widest.max(0.0).sqrt() / c + 1e-6;
+        let rows =
+            (cells_floor(fy - spread).max(j - reach).max(0), (cells_floor(fy + spread) + 1).min(j + reach).min(ny - 1));
+        let Memory { cells, planner, change_within, .. } = self;
+        for jj in rows.0..=rows.1 {
+            // The same centre as `self.centre(_, jj)`, and the same distance as `distance`.
+            let qy = (oy + (jj as f64 + 0.5) * c) - p.y;
+            let qy2 = qy * qy;
+            let rest = widest - qy2;
+            if !(rest > 0.0) {
                 continue;
             }
-            let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)).floor();
-            let band = BANDS - beyond.clamp(0.0, f64::from(BANDS - 1)) as u8;
-            let old = self.cells[n];
-            let cell = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
-            if cell != old {
-                self.cells[n] = cell;
-                self.planner.changed(n);
-                changed = true;
+            let h = rest.sqrt() / c + 1e-6;
+            let lo = cells_floor(fx - h).max(i - reach).max(0);
+            let hi = (cells_floor(fx + h) + 1).min(i + reach).min(nx - 1);
+            if lo > hi {
+                continue;
+            }
+            let row = jj as usize * nx as usize;
+            // A first test with the centres stepped along the row (rounding far below the
+            // nanometre `change_within` leaves), then the exact one with each centre as
+            // `self.centre` gives it.
+            let mut qx_row = (ox + (lo as f64 + 0.5) * c) - p.x;
+            for (at, cell) in cells[row + lo as usize..=row + hi as usize].iter_mut().enumerate() {
+                let old = *cell;
+                let within = change_within[usize::from(old)];
+                let near = qx_row * qx_row + qy2 < within;
+                qx_row += c;
+                if !near {
+                    continue;
+                }
+                let ii = lo + at as i64;
+                let qx = (ox + (ii as f64 + 0.5) * c) - p.x;
+                let d2 = qx * qx + qy2;
+                if !(d2 < within) {
+                    continue;
+                }
+                let d = d2.sqrt();
+                if d >= radius + margin {
+                    continue;
+                }
+                // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as the
+                // clamp of a NaN floor gives).
+                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
+                let band = BANDS - beyond.min(BANDS - 1);
+                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+                if new != old {
+                    *cell = new;
+                    planner.changed(row + ii as usize);
+                    changed = true;
+                }
             }
         }
         if changed && !self.stale {
@@ -364,8 +422,101 @@ impl Memory {
                 continue;
             }
             let steps = (len / (0.5 * c)).ceil() as usize;
+            self.mark_between(pa, pb, steps);
+        }
+    }
+
+    /// [`Memory::mark`] of the points `pa + (pb − pa)·s/steps`, `s` in `1..steps`, one after
+    /// the other — or, when none of them can make the path stale (so the order they are taken
+    /// in changes nothing) and the grid holds all of them with room, at once: each cell takes
+    /// what the nearest of the points gives it (its band and closing fall with the distance),
+    /// the same cells bit for bit.
+    fn mark_between(&mut self, pa: DVec2, pb: DVec2, steps: usize) {
+        let point = |s: usize| pa + (pb - pa) * (s as f64 / steps as f64);
+        let c = self.params.cell_m;
+        let (first, last) = (point(1), point(steps.saturating_sub(1).max(1)));
+        let (lo, hi) = (first.min(last), first.max(last));
+        // A point of the segment off the path's box by more than the stale distance is near no
+        // point of the path (rounding leaves the points within a micrometre of its box).
+        let (path_lo, path_hi) = self.path_box;
+        let apart = (path_lo - hi).max(lo - path_hi).max_element();
+        let stale_free = self.stale || self.path.is_empty() || apart > self.stale_m + 1e-6;
+        let reach = self.reach_cells + 1;
+        let (i0, j0) = self.cell_of(lo);
+        let (i1, j1) = self.cell_of(hi);
+        let roomy = i0 - reach >= 0 && j0 - reach >= 0 && i1 + reach < self.nx as i64 && j1 + reach < self.ny as i64;
+        if steps < 4 || !stale_free || !roomy || !lo.is_finite() || !hi.is_finite() {
             for s in 1..steps {
-                self.mark(pa + (pb - pa) * (s as f64 / steps as f64));
+                self.mark(point(s));
+            }
+            return;
+        }
+        for s in 1..steps {
+            let (i, j) = self.cell_of(point(s));
+            let k = j as usize * self.nx + i as usize;
+            if self.cells[k] & MARKED == 0 {
+                self.cells[k] |= MARKED;
+                self.known += 1;
+                self.planner.changed(k);
+            }
+        }
+        let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
+        let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        let widest = self.change_within[0];
+        let (ox, oy) = (self.origin.x, self.origin.y);
+        let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
+        let spread = widest.max(0.0).sqrt() / c + 1e-6;
+        let cols = (
+            cells_floor((lo.x - ox) / c - 0.5 - spread).max(i0 - reach),
+            (cells_floor((hi.x - ox) / c - 0.5 + spread) + 1).min(i1 + reach),
+        );
+        let rows = (
+            cells_floor((lo.y - oy) / c - 0.5 - spread).max(j0 - reach),
+            (cells_floor((hi.y - oy) / c - 0.5 + spread) + 1).min(j1 + reach),
+        );
+        let along = last - first;
+        let along2 = along.dot(along);
+        let last_s = steps - 1;
+        let Memory { cells, planner, change_within, nx, .. } = self;
+        for jj in rows.0..=rows.1 {
+            // The same centres as `self.centre`.
+            let cy = oy + (jj as f64 + 0.5) * c;
+            for ii in cols.0..=cols.1 {
+                let n = jj as usize * *nx + ii as usize;
+                let old = cells[n];
+                let within = change_within[usize::from(old)];
+                let centre = DVec2::new(ox + (ii as f64 + 0.5) * c, cy);
+                // The nearest point of the segment from the first point to the last: no point
+                // is nearer (less rounding, far below the nanometres `within` leaves).
+                let t = if along2 > 0.0 { ((centre - first).dot(along) / along2).clamp(0.0, 1.0) } else { 0.0 };
+                let e = centre - (first + along * t);
+                if !(e.dot(e) < within + 1e-9) {
+                    continue;
+                }
+                // The nearest of the points is one of the two around that place (four steps or
+                // more put them over a third of a cell apart, so the next ones are farther by
+                // far more than rounding; one more each side is looked at all the same).
+                let near = 1 + (t * (last_s - 1) as f64) as usize;
+                let mut d2 = f64::INFINITY;
+                for s in near.saturating_sub(1).max(1)..=(near + 2).min(last_s) {
+                    let p = point(s);
+                    let (qx, qy) = ((ox + (ii as f64 + 0.5) * c) - p.x, cy - p.y);
+                    d2 = d2.min(qx * qx + qy * qy);
+                }
+                if !(d2 < within) {
+                    continue;
+                }
+                let d = d2.sqrt();
+                if d >= radius + margin {
+                    continue;
+                }
+                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
+                let band = BANDS - beyond.min(BANDS - 1);
+                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+                if new != old {
+                    cells[n] = new;
+                    planner.changed(n);
+                }
             }
         }
     }
@@ -376,11 +527,12 @@ impl Memory {
     /// in sight is left. `None` when the goal cannot be reached over what is remembered (or
     /// the search gives up).
     pub fn heading(&mut self, from: DVec2, sight: impl Fn(f64) -> f64) -> Option<Aim> {
-        self.heading_with(from, sight, |_, _| f64::INFINITY, |_| f64::INFINITY)
+        self.heading_with(from, sight, |_, _, out: &mut [f64]| out.fill(f64::INFINITY), |_| f64::INFINITY)
     }
 
-    /// [`Memory::heading`] with `span(p, unit)`, how far the way is free from `p` along `unit`
-    /// (the range sensor's measure; infinite when nothing is near), which puts the line a gap
+    /// [`Memory::heading`] with `span(p, units, out)`, how far the way is free from `p` along
+    /// each of `units` into `out` (the range sensor's measure; infinite when nothing is near),
+    /// which puts the line a gap
     /// is entered along through the middle of the gap as measured, not of the grid's cells, and
     /// `reach(heading)`, how far the bare disc can go straight along an absolute heading now
     /// (infinite when nothing limits it), which decides whether an agent standing in the
@@ -389,7 +541,7 @@ impl Memory {
         &mut self,
         from: DVec2,
         sight: impl Fn(f64) -> f64,
-        span: impl FnMut(DVec2, DVec2) -> f64,
+        span: impl FnMut(DVec2, &[DVec2], &mut [f64]),
         reach: impl Fn(f64) -> f64,
     ) -> Option<Aim> {
         let near = self
@@ -491,7 +643,7 @@ impl Memory {
     fn line_up(
         &self,
         from: DVec2,
-        mut span: impl FnMut(DVec2, DVec2) -> f64,
+        mut span: impl FnMut(DVec2, &[DVec2], &mut [f64]),
         reach: &impl Fn(f64) -> f64,
     ) -> Option<DVec2> {
         let mut along = from.distance(self.path[0]);
@@ -531,13 +683,18 @@ impl Memory {
         // obstacle point on either side of the path (rays over each half turn), the way across
         // between the two. Rays square to the path alone would miss a thin row of posts the
         // grid's path crosses aslant.
+        let units: [DVec2; 2 * (SIDE_RAYS + 1)] = std::array::from_fn(|k| {
+            let (side, k) = if k <= SIDE_RAYS { (dir.perp(), k) } else { (-dir.perp(), k - SIDE_RAYS - 1) };
+            let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
+            DVec2::from_angle(turn).rotate(side)
+        });
+        let mut spans = [0.0; 2 * (SIDE_RAYS + 1)];
         let mut measure = |p: DVec2| {
+            span(p, &units, &mut spans);
             let mut near = [None::<DVec2>; 2];
-            for (n, side) in near.iter_mut().zip([dir.perp(), -dir.perp()]) {
-                for k in 0..=SIDE_RAYS {
-                    let turn = std::f64::consts::PI * (k as f64 / SIDE_RAYS as f64 - 0.5);
-                    let u = DVec2::from_angle(turn).rotate(side);
-                    let d = span(p, u);
+            for (s, n) in near.iter_mut().enumerate() {
+                for k in s * (SIDE_RAYS + 1)..(s + 1) * (SIDE_RAYS + 1) {
+                    let (u, d) = (units[k], spans[k]);
                     if d.is_finite() && n.is_none_or(|q: DVec2| d < q.distance(p)) {
                         *n = Some(p + u * d);
                     }
@@ -899,6 +1056,26 @@ mod tests {
         let aim = m.heading(from, |_| f64::INFINITY).unwrap();
         assert!(aim.remaining_m > 3.0, "{aim:?}");
         assert!(m.path().iter().all(|p| p.x < 1.9 || p.x > 2.2 || p.y < -1.0 || p.y > 5.0), "{:?}", m.path());
+    }
+
+    #[test]
+    fn a_segment_marked_at_once_marks_what_its_points_mark_one_by_one() {
+        let mut rng = crate::rng::stream(12, 0, 0);
+        let mut unit = || crate::rng::unit(&mut rng);
+        let mut m = Memory::new(DVec2::ZERO, DVec2::new(4.0, 0.0), 0.3, MemoryParams::default());
+        for _ in 0..200 {
+            // Some of the segments cross what earlier ones left, some lie on it.
+            let pa = DVec2::new(unit() * 4.0, unit() * 4.0 - 2.0);
+            let pb = pa + DVec2::from_angle(unit() * std::f64::consts::TAU) * (unit() * 0.6);
+            let steps = (pa.distance(pb) / (0.5 * m.params.cell_m)).ceil() as usize;
+            let mut one_by_one = m.clone();
+            for s in 1..steps {
+                one_by_one.mark(pa + (pb - pa) * (s as f64 / steps as f64));
+            }
+            m.mark_between(pa, pb, steps);
+            assert_eq!(m.cells, one_by_one.cells, "{pa} {pb} {steps}");
+            assert_eq!(m.known, one_by_one.known);
+        }
     }
 
     #[test]

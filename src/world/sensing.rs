@@ -87,6 +87,33 @@ pub struct Sensed {
     pub scan: Vec<f64>,
 }
 
+/// The sector (bounded by `edges`, as [`SectorLayout::edges`]) the direction `v` (of length `d`)
+/// lies in, by its bearing from the heading. When `rays` holds every edge's direction and the
+/// edges lie well inside a half turn either way, the side of each edge ray `v` lies on decides
+/// it (no arc tangent); a direction within a nanoradian of an edge ray, or any other layout,
+/// takes `bearing()` (the arc tangent) and compares it with the edges, which gives the same
+/// sector wherever the sides are clear.
+fn sector_of(v: DVec2, d: f64, rays: &[DVec2], edges: &[f64], bearing: impl Fn() -> f64) -> Option<usize> {
+    let n = edges.len().saturating_sub(1);
+    let clear_layout = rays.len() == edges.len()
+        && n > 0
+        && edges[0] > -std::f64::consts::PI + 1e-6
+        && edges[n] < std::f64::consts::PI - 1e-6
+        && edges.windows(2).all(|w| w[1] - w[0] < std::f64::consts::PI - 1e-6);
+    if clear_layout && d > 0.0 {
+        // Left of an edge ray (counter-clockwise from it) when positive.
+        let mut side = [0.0f64; 16];
+        for (s, r) in side.iter_mut().zip(rays) {
+            *s = r.perp_dot(v);
+        }
+        if side[..=n].iter().all(|s| s.abs() > 1e-9 * d) {
+            return (0..n).find(|&k| side[k] > 0.0 && side[k + 1] < 0.0);
+        }
+    }
+    let bearing = bearing();
+    (0..n).find(|&k| edges[k] <= bearing && bearing < edges[k + 1])
+}
+
 /// Folds one convex shape into the sensed distances: the sectors bounded by `edges` (as
 /// [`SectorLayout::edges`]), the wedge boundary `rays` cast up to `range` metres.
 fn sense_shape(shape: &Shape, p: DVec2, heading: f64, edges: &[f64], range: f64, rays: &[DVec2], out: &mut Sensed) {
@@ -110,8 +137,7 @@ fn sense_shape(shape: &Shape, p: DVec2, heading: f64, edges: &[f64], range: f64,
     if !out.sectors.iter().any(|&s| lowers(s)) {
         return;
     }
-    let bearing = bearing();
-    if let Some(k) = (0..n).find(|&k| edges[k] <= bearing && bearing < edges[k + 1]) {
+    if let Some(k) = sector_of(c - p, d, rays, edges, bearing) {
         out.sectors[k] = out.sectors[k].min(d);
     }
     for (j, dir) in rays.iter().enumerate() {

@@ -164,39 +164,50 @@ impl Queue {
         }
     }
 
+    /// Moves the entry at `i` up to its place: the entries above it that it goes before move
+    /// down one level each, and it is written once where it stops (as swapping it up level by
+    /// level would leave the heap).
     fn up(&mut self, mut i: usize) {
+        let e = self.heap[i];
         while i > 0 {
             let parent = (i - 1) / 2;
-            if self.heap[parent] <= self.heap[i] {
+            if self.heap[parent] <= e {
                 break;
             }
-            self.swap(i, parent);
+            self.place(i, self.heap[parent]);
             i = parent;
         }
+        self.place(i, e);
     }
 
+    /// Moves the entry at `i` down to its place, as [`Queue::up`] does the other way.
     fn down(&mut self, mut i: usize) {
+        let e = self.heap[i];
+        let n = self.heap.len();
         loop {
             let (l, r) = (2 * i + 1, 2 * i + 2);
             let mut least = i;
-            if l < self.heap.len() && self.heap[l] < self.heap[least] {
-                least = l;
+            let mut least_e = e;
+            if l < n && self.heap[l] < least_e {
+                (least, least_e) = (l, self.heap[l]);
             }
-            if r < self.heap.len() && self.heap[r] < self.heap[least] {
-                least = r;
+            if r < n && self.heap[r] < least_e {
+                (least, least_e) = (r, self.heap[r]);
             }
             if least == i {
                 break;
             }
-            self.swap(i, least);
+            self.place(i, least_e);
             i = least;
         }
+        self.place(i, e);
     }
 
-    fn swap(&mut self, i: usize, j: usize) {
-        self.heap.swap(i, j);
-        self.at[self.heap[i].2 as usize] = i as u32 + 1;
-        self.at[self.heap[j].2 as usize] = j as u32 + 1;
+    /// Writes entry `e` at place `i` of the heap.
+    #[inline(always)]
+    fn place(&mut self, i: usize, e: Entry) {
+        self.heap[i] = e;
+        self.at[e.2 as usize] = i as u32 + 1;
     }
 
     /// The queue of a grown grid, each cell's index changed by `moved`.
