@@ -3,13 +3,14 @@
 //! Mamdani, Larsen, Takagi-Sugeno, Tsukamoto and hybrid engines, with FLL import/export.
 //!
 //! Layout: [`engine`] is the plain-data description, [`variable`] its linguistic variables,
-//! [`rule`] the rule grammar, [`fll`] the FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
+//! [`rule`] the rule grammar, [`formula`] the formulas of `Function` terms, [`fll`] the FuzzyLite Language, [`Inference`] the compiled evaluator and [`reference`] a naive one
 //! used to check it; `columns` evaluates many rows at once ([`Inference::process_columns`]). Several engines are layered with [`Network`]. The module does no IO.
 
 mod columns;
 pub mod defuzz;
 pub mod engine;
 pub mod fll;
+pub mod formula;
 pub mod inference;
 pub mod network;
 pub mod norm;

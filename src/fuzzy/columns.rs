@@ -74,7 +74,8 @@ impl Plan {
     fn new(inference: &Inference) -> Plan {
         let Inference { engine, props, rules, conclusions, blocks, .. } = inference;
         let columnar = blocks.iter().all(|b| !b.enabled || b.activation == Activation::General)
-            && props.iter().all(|p| matches!(p.source, VariableRef::Input(_)));
+            && props.iter().all(|p| matches!(p.source, VariableRef::Input(_)))
+            && !engine.formulas_read_outputs();
         let weighted = engine
             .outputs
             .iter()
@@ -174,7 +175,7 @@ impl Inference {
                         for (j, x) in self.inputs.iter_mut().enumerate() {
                             *x = s.x[j * CHUNK + k];
                         }
-                        *v = input_proposition(&self.engine, prop, i, &self.inputs);
+                        *v = input_proposition(&self.engine, prop, i, &self.inputs, &self.outputs);
                     }
                 }
                 (Fuzzify::General, VariableRef::Output(_)) => values.fill(f64::NAN),
@@ -231,7 +232,7 @@ impl Inference {
                 }
                 let term = &var.terms[conclusion.term].term;
                 let z = &mut s.z[..n];
-                weighted_values(kind, term, hedged, &s.x, z);
+                weighted_values(kind, term, hedged, &s.x, &mut self.inputs, z);
                 accumulate(sum, weights, degrees, hedged, z);
             }
             let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
@@ -354,9 +355,10 @@ fn fold(acc: &mut [f64], b: &[f64], op: impl Fn(f64, f64) -> f64 + Copy) {
 }
 
 /// The value `z` a weighted defuzzifier multiplies by each degree in `degrees`, as
-/// [`defuzz::weighted_fold`] computes it; `x` holds the chunk's input columns.
+/// [`defuzz::weighted_fold`] computes it; `x` holds the chunk's input columns, `row` is room
+/// for one row of them.
 #[inline(always)]
-fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], z: &mut [f64]) {
+fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], row: &mut [f64], z: &mut [f64]) {
     let tsukamoto = match kind {
         WeightedKind::Tsukamoto => true,
         WeightedKind::TakagiSugeno => false,
@@ -369,6 +371,16 @@ fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], 
             }
         }
         Term::Constant { value } => z.fill(*value),
+        // A formula at the degree, over the row's inputs (a columnar engine's formulas read no
+        // output).
+        Term::Function(f) => {
+            for (k, (z, &d)) in z.iter_mut().zip(degrees).enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = x.get(j * CHUNK + k).copied().unwrap_or(f64::NAN);
+                }
+                *z = f.eval(d, row, &[]);
+            }
+        }
         Term::Linear { coefficients } => {
             // Σ cᵢ·xᵢ in coefficient order, the constant (times 1) last, as `membership_with`.
             let n = z.len();

@@ -128,10 +128,10 @@ pub struct Weighted<'a> {
     pub degree: f64,
 }
 
-/// Weighted average (`sum_only = false`) or weighted sum of activated terms. `inputs` are the
-/// engine's input values, for linear terms.
-pub fn weighted(kind: WeightedKind, terms: &[Weighted<'_>], inputs: &[f64], sum_only: bool) -> f64 {
-    weighted_result(weighted_fold(kind, terms, inputs, (0.0, 0.0)), sum_only)
+/// Weighted average (`sum_only = false`) or weighted sum of activated terms. `inputs` and
+/// `outputs` are the engine's current input and output values, for linear and function terms.
+pub fn weighted(kind: WeightedKind, terms: &[Weighted<'_>], inputs: &[f64], outputs: &[f64], sum_only: bool) -> f64 {
+    weighted_result(weighted_fold(kind, terms, inputs, outputs, (0.0, 0.0)), sum_only)
 }
 
 /// Adds `terms` to the running `(Σ degree · value, Σ degree)` of a weighted defuzzifier, in
@@ -140,6 +140,7 @@ pub fn weighted_fold(
     kind: WeightedKind,
     terms: &[Weighted<'_>],
     inputs: &[f64],
+    outputs: &[f64],
     (mut sum, mut weights): (f64, f64),
 ) -> (f64, f64) {
     for w in terms {
@@ -151,7 +152,9 @@ pub fn weighted_fold(
         let z = if tsukamoto {
             w.term.tsukamoto(w.degree).unwrap_or(f64::NAN)
         } else {
-            w.term.membership_with(w.degree, inputs)
+            // A Takagi-Sugeno term at the degree: constants and linear functions ignore it, a
+            // formula reads it as `x`.
+            w.term.membership_in(w.degree, inputs, outputs)
         };
         sum += w.degree * z;
         weights += w.degree;
@@ -199,10 +202,10 @@ mod tests {
         let b = Term::Linear { coefficients: vec![2.0, 1.0] };
         let terms = [Weighted { term: &a, degree: 0.25 }, Weighted { term: &b, degree: 0.75 }];
         // b = 2·3 + 1 = 7; average = (2.5 + 5.25) / 1.0.
-        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], false), 7.75);
-        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], true), 7.75);
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], &[], false), 7.75);
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[3.0], &[], true), 7.75);
         let ramp = Term::Ramp { start: 0.0, end: 10.0, height: 1.0 };
         let terms = [Weighted { term: &ramp, degree: 0.5 }];
-        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[], false), 5.0);
+        assert_eq!(weighted(WeightedKind::Automatic, &terms, &[], &[], false), 5.0);
     }
 }

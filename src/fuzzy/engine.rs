@@ -10,6 +10,7 @@
 
 pub use super::variable::{DEFAULT_RESOLUTION, Defuzzifier, InputVariable, NamedTerm, OutputVariable, WeightedKind};
 
+use super::formula::{Formula, Slot};
 use super::norm::{SNorm, TNorm, key};
 use super::rule::Rule;
 use super::term::Term;
@@ -420,9 +421,70 @@ impl Engine {
                     ))
                     .map_err(|e| e.at(Item::Term { output, variable, term }));
                 }
+                if let Term::Function(f) = &t.term {
+                    self.check_formula(f).map_err(|m| {
+                        EngineError::new(format!("Function term '{}': {m}", t.name)).at(Item::Term {
+                            output,
+                            variable,
+                            term,
+                        })
+                    })?;
+                }
             }
         }
         Ok(())
+    }
+
+    /// What a [`Term::Function`]'s formula reads: `x` and the engine's variables by name (no
+    /// variable may itself be called `x`).
+    pub fn check_formula(&self, f: &Formula) -> Result<(), String> {
+        if self.formula_slot("x").is_some() {
+            return Err("the engine has a variable named 'x', which formulas reserve for the term's argument".into());
+        }
+        match f.names().iter().find(|n| self.formula_slot(n).is_none()) {
+            Some(n) => Err(format!(
+                "the formula '{}' reads '{n}', which is no input or output variable of the engine",
+                f.text()
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The variable a formula's name refers to.
+    fn formula_slot(&self, name: &str) -> Option<Slot> {
+        match (self.input_index(name), self.output_index(name)) {
+            (Some(i), _) => Some(Slot::Input(i as u32)),
+            (None, Some(o)) => Some(Slot::Output(o as u32)),
+            (None, None) => None,
+        }
+    }
+
+    /// Binds the variable names of every [`Term::Function`] to this engine's inputs and
+    /// outputs (the evaluators do it on their own copy once the engine is validated).
+    pub fn bind_formulas(&mut self) {
+        let inputs = self.inputs.iter().enumerate().map(|(i, v)| (v.name.clone(), Slot::Input(i as u32)));
+        let outputs = self.outputs.iter().enumerate().map(|(o, v)| (v.name.clone(), Slot::Output(o as u32)));
+        let table: Vec<(String, Slot)> = inputs.chain(outputs).collect();
+        // The first variable of a name, as `formula_slot` finds it.
+        let lookup = |name: &str| table.iter().find(|(n, _)| n == name).map(|&(_, s)| s);
+        let inputs = self.inputs.iter_mut().flat_map(|v| &mut v.terms);
+        let outputs = self.outputs.iter_mut().flat_map(|v| &mut v.terms);
+        for t in inputs.chain(outputs) {
+            if let Term::Function(f) = &mut t.term {
+                f.bind(lookup);
+            }
+        }
+    }
+
+    /// True when some [`Term::Function`] of the engine reads an output variable's value.
+    pub fn formulas_read_outputs(&self) -> bool {
+        let inputs = self.inputs.iter().flat_map(|v| &v.terms);
+        let outputs = self.outputs.iter().flat_map(|v| &v.terms);
+        inputs.chain(outputs).any(|t| {
+            t.term
+                .formula()
+                .is_some_and(|f| f.names().iter().any(|n| matches!(self.formula_slot(n), Some(Slot::Output(_)))))
+        })
     }
 
     fn validate_input(&self, i: usize, v: &InputVariable) -> Result<(), EngineError> {
@@ -464,13 +526,14 @@ impl Engine {
                         WeightedKind::TakagiSugeno => true,
                         WeightedKind::Tsukamoto => t.term.is_monotonic(),
                         WeightedKind::Automatic => {
-                            t.term.is_monotonic() || matches!(t.term, Term::Constant { .. } | Term::Linear { .. })
+                            t.term.is_monotonic()
+                                || matches!(t.term, Term::Constant { .. } | Term::Linear { .. } | Term::Function(_))
                         }
                     };
                     (!ok).then(|| {
                         format!(
                             "term '{}' ({}) of output variable '{}' cannot be used by a weighted defuzzifier: \
-                             use Constant or Linear terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave, Arc)",
+                             use Constant, Linear or Function terms, or monotonic ones (Ramp, Sigmoid, SShape, ZShape, Concave, Arc)",
                             t.name,
                             t.term.class_name(),
                             v.name

@@ -11,7 +11,7 @@ use super::engine::{
     Activation, Defuzzifier, Engine, EngineError, InputVariable, Item, NamedTerm, OutputVariable, RuleBlock,
     WeightedKind,
 };
-use super::norm::{SNorm, TNorm};
+use super::norm::{SNorm, TNorm, key};
 use super::rule::Rule;
 use super::term::Term;
 use crate::diagnostic::SourceError;
@@ -41,6 +41,8 @@ struct Places {
     output_terms: Vec<Vec<(usize, usize)>>,
     blocks: Vec<(usize, usize)>,
     rules: Vec<Vec<(usize, usize)>>,
+    /// `(output, variable, term, line, column)` of each `Function` term's formula.
+    formulas: Vec<(bool, usize, usize, usize, usize)>,
 }
 
 impl Places {
@@ -166,7 +168,11 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                     "range" => (v.minimum, v.maximum) = range(&words).map_err(value_err)?,
                     "lock-range" => v.lock_range = boolean()?,
                     "term" => {
-                        v.terms.push(term(&words).map_err(value_err)?);
+                        let (t, formula_at) = term(value).map_err(|(at, m)| err(value_byte + at, m))?;
+                        if let Some(at) = formula_at {
+                            places.formulas.push((false, i, v.terms.len(), line_no, col_of(value_byte + at)));
+                        }
+                        v.terms.push(t);
                         places.input_terms[i].push((line_no, col_of(indent)));
                     }
                     _ => return Err(err(indent, format!("unknown key '{key}' in InputVariable section"))),
@@ -194,7 +200,11 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
                     }
                     "lock-previous" | "lock-valid" => v.lock_previous = boolean()?,
                     "term" => {
-                        v.terms.push(term(&words).map_err(value_err)?);
+                        let (t, formula_at) = term(value).map_err(|(at, m)| err(value_byte + at, m))?;
+                        if let Some(at) = formula_at {
+                            places.formulas.push((true, i, v.terms.len(), line_no, col_of(value_byte + at)));
+                        }
+                        v.terms.push(t);
                         places.output_terms[i].push((line_no, col_of(indent)));
                     }
                     _ => return Err(err(indent, format!("unknown key '{key}' in OutputVariable section"))),
@@ -235,6 +245,27 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
     }
     // Variables are validated before rules are parsed, so that rule errors name real problems.
     // (Rule-block checks wait for the rules.)
+    // A formula's unknown name is pointed at where the formula reads it.
+    for &(output, variable, term, line, col) in &places.formulas {
+        let terms = if output { &engine.outputs[variable].terms } else { &engine.inputs[variable].terms };
+        let Some(f) = terms.get(term).and_then(|t| t.term.formula()) else { continue };
+        if engine.check_formula(f).is_err() {
+            let known = |n: &str| n != "x" && (engine.input_index(n).is_some() || engine.output_index(n).is_some());
+            if let Some(k) = f.names().iter().position(|n| !known(n)) {
+                let at = col + f.name_columns().get(k).copied().unwrap_or(1) - 1;
+                return Err(SourceError::new(
+                    file,
+                    line,
+                    at,
+                    format!(
+                        "term '{}': the formula reads '{}', which is no input or output variable of the engine",
+                        terms[term].name,
+                        f.names()[k]
+                    ),
+                ));
+            }
+        }
+    }
     let mut variables_only = engine.clone();
     variables_only.rule_blocks.clear();
     variables_only.validate().map_err(|e| places.error(file, e))?;
@@ -265,7 +296,31 @@ fn range(words: &[&str]) -> Result<(f64, f64), String> {
     }
 }
 
-fn term(words: &[&str]) -> Result<NamedTerm, String> {
+/// A term from the value of a `term:` line; an error carries the byte offset in `value` it is
+/// about. A `Function` term's parameter is the rest of the line, one formula.
+fn term(value: &str) -> Result<(NamedTerm, Option<usize>), (usize, String)> {
+    let words: Vec<&str> = value.split_whitespace().collect();
+    if let [name, class, ..] = words.as_slice()
+        && key(class) == "function"
+    {
+        // The formula starts after the class name.
+        let after_name = value.find(name).map_or(0, |at| at + name.len());
+        let class_at = after_name + value[after_name..].find(class).unwrap_or(0);
+        let rest = &value[class_at + class.len()..];
+        let start = class_at + class.len() + (rest.len() - rest.trim_start().len());
+        let formula = &value[start..];
+        return match Term::function(formula) {
+            Ok(term) => Ok((NamedTerm { name: name.to_string(), term }, Some(start))),
+            Err(e) => {
+                let at = formula.char_indices().nth(e.col.saturating_sub(1)).map_or(formula.len(), |(b, _)| b);
+                Err((start + at, format!("term '{name}': {}", e.message)))
+            }
+        };
+    }
+    numeric_term(&words).map(|t| (t, None)).map_err(|m| (0, m))
+}
+
+fn numeric_term(words: &[&str]) -> Result<NamedTerm, String> {
     match words {
         [name, class, params @ ..] => {
             let values = params
@@ -306,6 +361,12 @@ fn or_none(name: Option<&str>) -> &str {
 
 fn write_term(out: &mut String, t: &NamedTerm) {
     out.push_str(&format!("  term: {} {}", t.name, t.term.class_name()));
+    if let Some(f) = t.term.formula() {
+        out.push(' ');
+        out.push_str(&one_line(f.text()));
+        out.push('\n');
+        return;
+    }
     for p in t.term.parameters() {
         out.push(' ');
         out.push_str(&number(p));

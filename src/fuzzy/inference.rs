@@ -134,6 +134,11 @@ pub(super) struct CompiledOutput {
     zeros: Vec<f64>,
     /// `resolution` values of scratch: an implied term.
     implied: Vec<f64>,
+    /// Terms whose samples depend on the engine's variables (a [`Term::Function`] naming
+    /// some): sampled again at each defuzzification, with the values of that moment.
+    dynamic: Vec<usize>,
+    /// `plain` over the other terms' samples.
+    static_plain: bool,
 }
 
 /// A compiled engine with its state (input values, output values, rule activations).
@@ -283,6 +288,9 @@ impl Inference {
     /// Validates and compiles `engine`.
     pub fn new(engine: &Engine) -> Result<Inference, EngineError> {
         engine.validate()?;
+        let mut bound = engine.clone();
+        bound.bind_formulas();
+        let engine = &bound;
         let mut props: Vec<Prop> = Vec::new();
         let mut program = Vec::new();
         let mut rules = Vec::new();
@@ -456,7 +464,7 @@ impl Inference {
     pub fn input_memberships(&self, index: usize) -> Vec<f64> {
         let var = &self.engine.inputs[index];
         let x = self.inputs[index];
-        var.terms.iter().map(|t| t.term.membership_with(x, &self.inputs)).collect()
+        var.terms.iter().map(|t| t.term.membership_in(x, &self.inputs, &self.outputs)).collect()
     }
 
     /// Runs one inference: fuzzify, fire rules, aggregate, defuzzify.
@@ -489,7 +497,7 @@ impl Inference {
             if let Fuzzify::Trapezoid { input, a, b, c, d, height } = *plan {
                 *value = trapezoid(inputs.get(input).copied().unwrap_or(f64::NAN), a, b, c, d, height);
             } else if let VariableRef::Input(i) = prop.source {
-                *value = input_proposition(engine, prop, i, inputs);
+                *value = input_proposition(engine, prop, i, inputs, outputs);
             }
         }
         start_step(outs);
@@ -540,14 +548,16 @@ pub(super) fn clamp_input(var: &InputVariable, x: f64) -> f64 {
 }
 
 /// Degree of `prop` on input `i` (a disabled input gives 0) through the term's own membership
-/// and the hedges.
-pub(super) fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64]) -> f64 {
+/// (a formula reading the current `inputs` and `outputs`) and the hedges.
+pub(super) fn input_proposition(engine: &Engine, prop: &Prop, i: usize, inputs: &[f64], outputs: &[f64]) -> f64 {
     let var = &engine.inputs[i];
     if !var.enabled {
         return 0.0;
     }
     let base = match prop.term {
-        Some(t) if prop.hedges.last() != Some(&Hedge::Any) => var.terms[t].term.membership_with(inputs[i], inputs),
+        Some(t) if prop.hedges.last() != Some(&Hedge::Any) => {
+            var.terms[t].term.membership_in(inputs[i], inputs, outputs)
+        }
         _ => f64::NAN,
     };
     apply_hedges(&prop.hedges, base)
@@ -683,7 +693,7 @@ pub(super) fn defuzzify(
                         for (slot, a) in list.iter_mut().zip(chunk) {
                             *slot = Weighted { term: &var.terms[a.0].term, degree: a.2 };
                         }
-                        acc = defuzz::weighted_fold(kind, &list[..chunk.len()], inputs, acc);
+                        acc = defuzz::weighted_fold(kind, &list[..chunk.len()], inputs, outputs, acc);
                     }
                     Some(defuzz::weighted_result(acc, sum_only))
                 }
@@ -691,6 +701,9 @@ pub(super) fn defuzzify(
                     if var.aggregation.is_none() && out.activated.len() > 1 {
                         None
                     } else {
+                        if !out.dynamic.is_empty() {
+                            out.resample(var, inputs, outputs);
+                        }
                         Some(out.aggregate_and_defuzzify(&d, var))
                     }
                 }
@@ -790,9 +803,21 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
         let hi = row.iter().rposition(|y| *y != 0.0).map_or(lo, |i| i + 1);
         support.push((lo, hi));
     }
+    let dynamic: Vec<usize> = if resolution > 0 {
+        var.terms.iter().enumerate().filter(|(_, t)| t.term.depends_on_inputs()).map(|(i, _)| i).collect()
+    } else {
+        Vec::new()
+    };
+    let static_plain = samples
+        .chunks(resolution.max(1))
+        .enumerate()
+        .filter(|(t, _)| !dynamic.contains(t))
+        .all(|(_, row)| row.iter().all(|s| s.is_finite() && *s >= 0.0));
     CompiledOutput {
         support,
         resolution,
+        dynamic,
+        static_plain,
         mu: vec![0.0; resolution],
         activated: Vec::with_capacity(var.terms.len()),
         raw: Vec::new(),
@@ -808,6 +833,29 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
 }
 
 impl CompiledOutput {
+    /// Samples the terms that read the engine's variables again, at their current values
+    /// (`inputs`, and `outputs` as far as they are defuzzified this step), with their
+    /// supports and whether every sample is still plain.
+    fn resample(&mut self, var: &OutputVariable, inputs: &[f64], outputs: &[f64]) {
+        let n = self.resolution;
+        let mut plain = self.static_plain;
+        for &t in &self.dynamic {
+            let (Some(row), Some(term)) = (self.samples.get_mut(t * n..(t + 1) * n), var.terms.get(t)) else {
+                continue;
+            };
+            for (y, &x) in row.iter_mut().zip(&self.xs) {
+                *y = term.term.membership_in(x, inputs, outputs);
+            }
+            plain &= row.iter().all(|s| s.is_finite() && *s >= 0.0);
+            let lo = row.iter().position(|y| *y != 0.0).unwrap_or(n);
+            let hi = row.iter().rposition(|y| *y != 0.0).map_or(lo, |i| i + 1);
+            if let Some(s) = self.support.get_mut(t) {
+                *s = (lo, hi);
+            }
+        }
+        self.plain = plain;
+    }
+
     /// Aggregates the activations recorded this step and defuzzifies them. On x86-64
     /// processors with AVX2 the same code is compiled for it (four doubles per vector
     /// instruction instead of two) and chosen at run time: the operations and their order

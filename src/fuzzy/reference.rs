@@ -25,7 +25,9 @@ impl Reference {
     pub fn new(engine: &Engine) -> Result<Reference, EngineError> {
         engine.validate()?;
         let n = engine.outputs.len();
-        Ok(Reference { engine: engine.clone(), outputs: vec![f64::NAN; n], previous: vec![f64::NAN; n] })
+        let mut engine = engine.clone();
+        engine.bind_formulas();
+        Ok(Reference { engine, outputs: vec![f64::NAN; n], previous: vec![f64::NAN; n] })
     }
 
     /// Evaluates the engine on `inputs` (one value per input variable).
@@ -93,7 +95,7 @@ impl Reference {
                         let list: Vec<Weighted> =
                             mine.iter().map(|&(t, _, d)| Weighted { term: &var.terms[t].term, degree: d }).collect();
                         let sum_only = matches!(var.defuzzifier, Some(Defuzzifier::WeightedSum { .. }));
-                        Some(defuzz::weighted(kind, &list, &inputs, sum_only))
+                        Some(defuzz::weighted(kind, &list, &inputs, &self.outputs, sum_only))
                     }
                     Some(d) => {
                         if var.aggregation.is_none() && mine.len() > 1 {
@@ -105,7 +107,8 @@ impl Reference {
                                     let x = defuzz::sample_x(var.minimum, var.maximum, n, i);
                                     let mut m = 0.0;
                                     for &(t, imp, deg) in &mine {
-                                        let y = imp.apply(deg, var.terms[t].term.membership(x));
+                                        let term = &var.terms[t].term;
+                                        let y = imp.apply(deg, term.membership_in(x, &inputs, &self.outputs));
                                         m = match var.aggregation {
                                             Some(agg) => agg.apply(m, y),
                                             None => y,
@@ -140,7 +143,7 @@ impl Reference {
                     }
                     let base = match p.term {
                         Some(t) if p.hedges.last() != Some(&Hedge::Any) => {
-                            var.terms[t].term.membership_with(inputs[i], inputs)
+                            var.terms[t].term.membership_in(inputs[i], inputs, &self.outputs)
                         }
                         _ => f64::NAN,
                     };

@@ -4,11 +4,14 @@
 //! Every term maps a crisp value `x` to a membership degree. Shapes are scaled by an optional
 //! `height` (default 1), as in FLL where a term's last, optional parameter is its height.
 //! Invariants: a `NaN` input gives a `NaN` membership (the caller decides what that means)
-//! except for the input-independent [`Term::Constant`] and [`Term::Linear`],
-//! every shape except [`Term::Constant`], [`Term::Linear`] and [`Term::Discrete`] stays within
-//! `[0, height]`, and evaluation never panics.
+//! except for the input-independent [`Term::Constant`] and [`Term::Linear`] and the formulas of
+//! [`Term::Function`] (IEEE arithmetic on whatever they compute),
+//! every shape except [`Term::Constant`], [`Term::Linear`], [`Term::Discrete`] and
+//! [`Term::Function`] stays within `[0, height]`, and evaluation never panics.
 
 use std::f64::consts::PI;
+
+use super::formula::{Formula, FormulaError};
 
 /// A membership function. Parameters are in the units of the variable that owns the term.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,6 +62,9 @@ pub enum Term {
     /// 1 from `start` on toward `direction` (any number above `start`, usually +∞, or below
     /// it, usually −∞), 0 elsewhere.
     Binary { start: f64, direction: f64, height: f64 },
+    /// A formula of `x` and the engine's variables (FLL's `Function`), parsed once; its
+    /// variable names are bound to the engine's inputs and outputs when it is compiled.
+    Function(Box<Formula>),
 }
 
 /// Sigmoid without height: `1 / (1 + exp(-slope·(x-inflection)))`.
@@ -116,6 +122,7 @@ impl Term {
             Term::Arc { .. } => "Arc",
             Term::SemiEllipse { .. } => "SemiEllipse",
             Term::Binary { .. } => "Binary",
+            Term::Function(_) => "Function",
         }
     }
 
@@ -237,12 +244,30 @@ impl Term {
                 }
                 Term::Discrete { points, height }
             }
+            "function" => {
+                return Err(format!("term {class} takes a formula (Term::function), not a list of numbers"));
+            }
             _ => return Err(format!("unknown term class '{class}'")),
         };
         Ok(term)
     }
 
-    /// The FLL parameter list of this term (height appended only when it is not 1).
+    /// A [`Term::Function`] of the formula `text` (`x` is the value the membership is
+    /// evaluated at; other names are the engine's variables).
+    pub fn function(text: &str) -> Result<Term, FormulaError> {
+        Ok(Term::Function(Box::new(Formula::parse(text)?)))
+    }
+
+    /// The formula of a [`Term::Function`].
+    pub fn formula(&self) -> Option<&Formula> {
+        match self {
+            Term::Function(f) => Some(f),
+            _ => None,
+        }
+    }
+
+    /// The FLL parameter list of this term (height appended only when it is not 1; none for
+    /// a [`Term::Function`], whose parameter is its formula).
     pub fn parameters(&self) -> Vec<f64> {
         let (mut v, height) = match self {
             Term::Triangle { a, b, c, height } => (vec![*a, *b, *c], *height),
@@ -274,6 +299,7 @@ impl Term {
             Term::Constant { value } => (vec![*value], 1.0),
             Term::Linear { coefficients } => (coefficients.clone(), 1.0),
             Term::Discrete { points, height } => (points.iter().flat_map(|(x, y)| [*x, *y]).collect(), *height),
+            Term::Function(_) => (Vec::new(), 1.0),
         };
         if height != 1.0 {
             v.push(height);
@@ -285,6 +311,10 @@ impl Term {
     /// finite (except one shoulder of a Triangle or Trapezoid: `a` = −∞ or the last = +∞, not
     /// both), the height in `[0, 1]`, positive widths where the shape divides by them.
     pub fn check(&self) -> Result<(), String> {
+        if let Term::Function(_) = self {
+            // Parsed when it was built; its names are checked against the engine's variables.
+            return Ok(());
+        }
         let params = self.parameters_with_height();
         let height = match self {
             Term::Constant { .. } | Term::Linear { .. } => 1.0,
@@ -368,18 +398,32 @@ impl Term {
             Term::Constant { .. } => 1,
             Term::Linear { coefficients } => coefficients.len(),
             Term::Discrete { points, .. } => 2 * points.len(),
+            Term::Function(_) => 0,
         }
     }
 
-    /// True when the term's value depends on the engine's input values ([`Term::Linear`]).
+    /// True when the term's value depends on the engine's variables ([`Term::Linear`], a
+    /// [`Term::Function`] that names some).
     pub fn depends_on_inputs(&self) -> bool {
-        matches!(self, Term::Linear { .. })
+        match self {
+            Term::Linear { .. } => true,
+            Term::Function(f) => f.reads_variables(),
+            _ => false,
+        }
     }
 
     /// Membership of `x`. `inputs` are the engine's current input values, used only by
-    /// [`Term::Linear`], whose coefficient past the last input multiplies 1 (the constant).
+    /// [`Term::Linear`], whose coefficient past the last input multiplies 1 (the constant),
+    /// and by a [`Term::Function`] (which reads no output here: see [`Term::membership_in`]).
     pub fn membership_with(&self, x: f64, inputs: &[f64]) -> f64 {
+        self.membership_in(x, inputs, &[])
+    }
+
+    /// Membership of `x` with the engine's current input and output values: a bound
+    /// [`Term::Function`] reads both (a value missing from them reads as NaN).
+    pub fn membership_in(&self, x: f64, inputs: &[f64], outputs: &[f64]) -> f64 {
         match self {
+            Term::Function(f) => f.eval(x, inputs, outputs),
             Term::Linear { coefficients } => {
                 // One coefficient per input, plus an optional constant last.
                 let mut sum = 0.0;
@@ -398,6 +442,7 @@ impl Term {
         match self {
             Term::Constant { value } => return *value,
             Term::Linear { .. } => return self.membership_with(x, &[]),
+            Term::Function(f) => return f.eval(x, &[], &[]),
             _ if x.is_nan() => return f64::NAN,
             _ => {}
         }
@@ -475,7 +520,7 @@ impl Term {
                 };
                 (y, height)
             }
-            Term::Constant { .. } | Term::Linear { .. } => return f64::NAN,
+            Term::Constant { .. } | Term::Linear { .. } | Term::Function(_) => return f64::NAN,
             Term::Discrete { ref points, height } => (interpolate(points, x), height),
             Term::Arc { start, end, height } => {
                 let r = end - start;
