@@ -17,7 +17,32 @@ fn pick<T: Copy>(rng: &mut ChaCha8Rng, items: &[T]) -> T {
     items[((unit(rng) * items.len() as f64) as usize).min(items.len() - 1)]
 }
 
-fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
+/// A `Function` term on `[lo, hi]`: a bump, a bell, a step or a raised cosine of `x`, its
+/// centre sometimes moved by one of the variables `names`.
+fn function_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64, names: &[String]) -> Term {
+    let c = uniform(rng, lo, hi);
+    let w = uniform(rng, 0.1, 0.5) * (hi - lo);
+    let h = uniform(rng, 0.3, 1.0);
+    let centre = if names.is_empty() || unit(rng) < 0.4 {
+        format!("{c}")
+    } else {
+        let k = ((unit(rng) * names.len() as f64) as usize).min(names.len() - 1);
+        format!("({c} + {} / 10)", names[k])
+    };
+    let formula = match (unit(rng) * 4.0) as usize {
+        0 => format!("max(0, 1 - fabs(x - {centre}) / {w})"),
+        1 => format!("{h} * exp(-((x - {centre}) / {w})^2 / 2)"),
+        2 => format!("lt(x, {centre}) * 0.25 + ge(x, {centre}) * min(1, fabs(x - {centre}) / {w})"),
+        _ => format!("{h} * (1 + cos(pi * min(1, fabs(x - {centre}) / {w}))) / 2"),
+    };
+    Term::function(&formula).unwrap_or_else(|e| panic!("{formula}: {e:?}"))
+}
+
+/// A random term on `[lo, hi]`; a `Function` may read the variables `names`.
+fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64, names: &[String]) -> Term {
+    if unit(rng) < 0.1 {
+        return function_term(rng, lo, hi, names);
+    }
     let mut xs: Vec<f64> = (0..4).map(|_| uniform(rng, lo, hi)).collect();
     xs.sort_by(f64::total_cmp);
     let height = if unit(rng) < 0.2 { uniform(rng, 0.3, 1.0) } else { 1.0 };
@@ -36,11 +61,12 @@ fn random_term(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> Term {
     }
 }
 
-/// Input `in{i}` on `[-5, 5]` with two to `2 + extra` random terms.
-fn random_input(rng: &mut ChaCha8Rng, i: usize, extra: f64) -> InputVariable {
+/// Input `in{i}` on `[-5, 5]` with two to `2 + extra` random terms (a `Function` among them
+/// may read the variables `names`).
+fn random_input(rng: &mut ChaCha8Rng, i: usize, extra: f64, names: &[String]) -> InputVariable {
     let mut v = InputVariable::new(&format!("in{i}"), -5.0, 5.0);
     for t in 0..2 + (unit(rng) * extra) as usize {
-        v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0));
+        v = v.term(&format!("t{t}"), random_term(rng, -5.0, 5.0, names));
     }
     v
 }
@@ -50,18 +76,25 @@ fn random_engine(seed: u64) -> Engine {
     let rng = &mut stream(seed, 0, 0);
     let mut e = Engine::new("random");
     let n_in = 1 + (unit(rng) * 3.0) as usize;
-    for i in 0..n_in {
-        e.inputs.push(random_input(rng, i, 3.0));
-    }
     let sugeno = unit(rng) < 0.25;
     let n_out = 1 + (unit(rng) * 2.0) as usize;
+    // Formulas read any variable: inputs, and outputs (earlier ones as defuzzified in the same
+    // step, the others as they were after the step before).
+    let names: Vec<String> = (0..n_in).map(|i| format!("in{i}")).chain((0..n_out).map(|o| format!("out{o}"))).collect();
+    for i in 0..n_in {
+        e.inputs.push(random_input(rng, i, 3.0, &names));
+    }
     for o in 0..n_out {
         let mut v = OutputVariable::new(&format!("out{o}"), 0.0, 10.0);
         for t in 0..2 + (unit(rng) * 3.0) as usize {
-            let term = if sugeno {
+            let term = if sugeno && unit(rng) < 0.2 {
+                let k = ((unit(rng) * names.len() as f64) as usize).min(names.len() - 1);
+                let (a, b) = (uniform(rng, -2.0, 2.0), uniform(rng, -2.0, 2.0));
+                Term::function(&format!("{a} * {} + {b} * x + sin(x)", names[k])).unwrap()
+            } else if sugeno {
                 Term::Linear { coefficients: (0..=n_in).map(|_| uniform(rng, -2.0, 2.0)).collect() }
             } else {
-                random_term(rng, 0.0, 10.0)
+                random_term(rng, 0.0, 10.0, &names)
             };
             v = v.term(&format!("t{t}"), term);
         }
@@ -380,14 +413,16 @@ fn benchmark_engines_agree_with_reference() {
 }
 
 /// A random Takagi-Sugeno engine whose output terms are each concluded by one rule (so its
-/// outputs are folded column by column in [`Inference::process_columns`]): constant or linear
-/// terms, any conjunction and disjunction, hedges, weights, sometimes a second output.
+/// outputs are folded column by column in [`Inference::process_columns`]): constant, linear
+/// or function terms (formulas of the degree and the inputs), any conjunction and disjunction,
+/// hedges, weights, sometimes a second output.
 fn sugeno_engine(seed: u64) -> Engine {
     let rng = &mut stream(seed, 2, 0);
     let mut e = Engine::new("sugeno");
     let n_in = 1 + (unit(rng) * 3.0) as usize;
+    let names: Vec<String> = (0..n_in).map(|i| format!("in{i}")).collect();
     for i in 0..n_in {
-        let mut v = random_input(rng, i, 4.0);
+        let mut v = random_input(rng, i, 4.0, &names);
         v.lock_range = unit(rng) < 0.3;
         e.inputs.push(v);
     }
@@ -401,6 +436,10 @@ fn sugeno_engine(seed: u64) -> Engine {
         for t in 0..rules {
             let term = if unit(rng) < 0.3 {
                 Term::Constant { value: uniform(rng, -10.0, 10.0) }
+            } else if unit(rng) < 0.2 {
+                let k = ((unit(rng) * n_in as f64) as usize).min(n_in - 1);
+                let (a, b) = (uniform(rng, -2.0, 2.0), uniform(rng, -2.0, 2.0));
+                Term::function(&format!("{a} * in{k} - {b} * x^2 + fmod(in{k}, 1.5)")).unwrap()
             } else {
                 let n = n_in + usize::from(unit(rng) < 0.7);
                 Term::Linear { coefficients: (0..n).map(|_| uniform(rng, -2.0, 2.0)).collect() }

@@ -564,6 +564,122 @@ RuleBlock: rules
         assert_eq!(err.line, dup_block.lines().count(), "{err}");
     }
 
+    const FUNCTIONS: &str = "\
+Engine: functions
+InputVariable: inputX
+  enabled: true
+  range: 0.000 10.000
+  lock-range: false
+  term: near Function  1 - min(fabs(x - 5) / 5, 1)
+  term: far Triangle 0 5 10
+OutputVariable: fx
+  enabled: true
+  range: -1.000 1.000
+  lock-range: false
+  aggregation: none
+  defuzzifier: WeightedAverage
+  default: nan
+  lock-previous: false
+  term: fx Function sin(inputX)/inputX
+OutputVariable: diff
+  enabled: true
+  range: -1.000 1.000
+  lock-range: false
+  aggregation: Maximum
+  defuzzifier: Centroid 100
+  default: nan
+  lock-previous: false
+  term: diff Function fabs(fx - inputX / 10) * (1 - x^2) + 0.1 * x # a comment
+RuleBlock:
+  enabled: true
+  implication: Minimum
+  activation: General
+  rule: if inputX is near then fx is fx and diff is diff
+";
+
+    #[test]
+    fn function_terms_round_trip_with_their_formula_text() {
+        let e = import(FUNCTIONS, "f.fll").unwrap();
+        let text = |t: &Term| t.formula().map(|f| f.text().to_string());
+        assert_eq!(text(&e.inputs[0].terms[0].term).as_deref(), Some("1 - min(fabs(x - 5) / 5, 1)"));
+        assert_eq!(text(&e.outputs[1].terms[0].term).as_deref(), Some("fabs(fx - inputX / 10) * (1 - x^2) + 0.1 * x"));
+        let out = export(&e);
+        assert!(out.contains("  term: fx Function sin(inputX)/inputX\n"), "{out}");
+        assert!(out.contains("  term: near Function 1 - min(fabs(x - 5) / 5, 1)\n"), "{out}");
+        let again = import(&out, "again.fll").unwrap();
+        assert_eq!(
+            (&e.inputs, &e.outputs[0].terms, &e.outputs[1].terms),
+            (&again.inputs, &again.outputs[0].terms, &again.outputs[1].terms)
+        );
+        assert_eq!(export(&again), out);
+    }
+
+    #[test]
+    fn function_terms_read_the_values_of_the_step() {
+        use crate::fuzzy::{Inference, reference::Reference};
+        let e = import(FUNCTIONS, "f.fll").unwrap();
+        let mut fast = Inference::new(&e).unwrap();
+        let mut naive = Reference::new(&e).unwrap();
+        for x in [2.0, 7.5, 0.0, 5.0] {
+            fast.set_inputs(&[x]);
+            fast.process();
+            let want = naive.process(&[x]).to_vec();
+            // `near` fires with 1 - |x - 5| / 5; `fx` is its formula at that degree.
+            let degree = 1.0 - (x - 5.0f64).abs() / 5.0;
+            let fx = x.sin() / x;
+            let got = fast.outputs()[0];
+            assert!(got.to_bits() == fx.to_bits() || (got.is_nan() && fx.is_nan()), "at {x}: {got} vs {fx}");
+            // `diff` is the centroid of max(0, min(degree, a·(1 − s²) + s/10)) (aggregated from 0)
+            // over the samples s, where a reads `fx` as just defuzzified.
+            let a = (fx - x / 10.0).abs();
+            let (mut area, mut moment) = (0.0, 0.0);
+            for i in 0..100 {
+                let s = -1.0 + (i as f64 + 0.5) * 0.02;
+                let mu = 0f64.max(degree.min(a * (1.0 - s.powf(2.0)) + 0.1 * s));
+                area += mu;
+                moment += mu * s;
+            }
+            let diff = moment / area;
+            let got = fast.outputs()[1];
+            assert!(diff.is_nan() == got.is_nan() && (diff.is_nan() || (got - diff).abs() < 1e-12), "{got} vs {diff}");
+            let close = |(a, b): (&f64, &f64)| (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-12;
+            assert!(want.iter().zip(fast.outputs()).all(close), "{want:?} vs {:?}", fast.outputs());
+        }
+    }
+
+    #[test]
+    fn bad_formulas_are_located_errors() {
+        let at = |from: &str, to: &str| {
+            let bad = FUNCTIONS.replace(from, to);
+            let err = import(&bad, "f.fll").unwrap_err();
+            let line = line_of(&bad, to);
+            let col = bad.lines().nth(line - 1).unwrap().chars().count();
+            (err.line == line).then_some(()).unwrap_or_else(|| panic!("{to}: {err}"));
+            (err, col)
+        };
+        // Unbalanced: pointed at the unclosed call.
+        let (err, _) = at("sin(inputX)/inputX", "sin(inputX/inputX");
+        assert_eq!(err.col, 21, "{err}");
+        assert!(err.message.contains("never closed"), "{err}");
+        let (err, _) = at("sin(inputX)/inputX", "sin(inputX))/inputX");
+        assert_eq!(err.col, 32, "{err}");
+        let (err, _) = at("sin(inputX)/inputX", "sine(inputX)/inputX");
+        assert_eq!(err.col, 21, "{err}");
+        assert!(err.message.contains("unknown function 'sine'"), "{err}");
+        let (err, _) = at("sin(inputX)/inputX", "pow(inputX)/inputX");
+        assert!(err.message.contains("takes 2 arguments"), "{err}");
+        // An unknown variable, found once every variable is known.
+        let (err, _) = at("sin(inputX)/inputX", "sin(inputX)/inputY");
+        assert_eq!(err.col, 33, "{err}");
+        assert!(err.message.contains("'inputY'"), "{err}");
+        let (err, end) = at("term: fx Function sin(inputX)/inputX", "term: fx Function");
+        assert_eq!(err.col, end + 1, "{err}");
+        assert!(err.message.contains("empty"), "{err}");
+        let renamed = FUNCTIONS.replace("InputVariable: inputX", "InputVariable: x").replace("inputX", "x");
+        let err = import(&renamed, "f.fll").unwrap_err();
+        assert!(err.message.contains("named 'x'"), "{err}");
+    }
+
     #[test]
     fn nonsense_terms_and_thresholds_are_located_errors() {
         for (from, to) in [

@@ -139,6 +139,11 @@ pub(super) struct CompiledOutput {
     dynamic: Vec<usize>,
     /// `plain` over the other terms' samples.
     static_plain: bool,
+    /// Some sample is NaN or infinite (a formula's): the implied terms are then folded in
+    /// firing order over every sample, as without shortcuts.
+    wild: bool,
+    /// `wild` over the samples of the terms not in `dynamic`.
+    static_wild: bool,
 }
 
 /// A compiled engine with its state (input values, output values, rule activations).
@@ -813,11 +818,18 @@ fn compile_output(var: &OutputVariable) -> CompiledOutput {
         .enumerate()
         .filter(|(t, _)| !dynamic.contains(t))
         .all(|(_, row)| row.iter().all(|s| s.is_finite() && *s >= 0.0));
+    let static_wild = samples
+        .chunks(resolution.max(1))
+        .enumerate()
+        .filter(|(t, _)| !dynamic.contains(t))
+        .any(|(_, row)| row.iter().any(|s| !s.is_finite()));
     CompiledOutput {
         support,
         resolution,
         dynamic,
         static_plain,
+        wild: static_wild,
+        static_wild,
         mu: vec![0.0; resolution],
         activated: Vec::with_capacity(var.terms.len()),
         raw: Vec::new(),
@@ -839,6 +851,7 @@ impl CompiledOutput {
     fn resample(&mut self, var: &OutputVariable, inputs: &[f64], outputs: &[f64]) {
         let n = self.resolution;
         let mut plain = self.static_plain;
+        let mut wild = self.static_wild;
         for &t in &self.dynamic {
             let (Some(row), Some(term)) = (self.samples.get_mut(t * n..(t + 1) * n), var.terms.get(t)) else {
                 continue;
@@ -847,6 +860,7 @@ impl CompiledOutput {
                 *y = term.term.membership_in(x, inputs, outputs);
             }
             plain &= row.iter().all(|s| s.is_finite() && *s >= 0.0);
+            wild |= row.iter().any(|s| !s.is_finite());
             let lo = row.iter().position(|y| *y != 0.0).unwrap_or(n);
             let hi = row.iter().rposition(|y| *y != 0.0).map_or(lo, |i| i + 1);
             if let Some(s) = self.support.get_mut(t) {
@@ -854,6 +868,7 @@ impl CompiledOutput {
             }
         }
         self.plain = plain;
+        self.wild = wild;
     }
 
     /// Aggregates the activations recorded this step and defuzzifies them. On x86-64
@@ -878,7 +893,7 @@ impl CompiledOutput {
 
     #[inline(always)]
     fn aggregate_and_defuzzify_here(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
-        if self.unbounded {
+        if self.unbounded || self.wild {
             return self.aggregate_in_firing_order(d, var);
         }
         let n = self.resolution;

@@ -67,6 +67,16 @@ fn number(value: &Dynamic, what: &str) -> Res<f64> {
     fail(format!("{what} must be a number, found {}", value.type_name()))
 }
 
+/// A term whose parameter is text: a `function` and its formula.
+fn formula_term(name: &str, kind: &str, formula: &str) -> Res<Term> {
+    if crate::fuzzy::norm::key(kind) != "function" {
+        return fail(format!(
+            "term '{name}': a {kind} term takes an array of numbers; only a function takes a formula"
+        ));
+    }
+    Term::function(formula).or_else(|e| fail(format!("term '{name}': column {} of the formula: {}", e.col, e.message)))
+}
+
 fn numbers(values: &Array, what: &str) -> Res<Vec<f64>> {
     values.iter().enumerate().map(|(i, v)| number(v, &format!("{what} {}", i + 1))).collect()
 }
@@ -211,6 +221,35 @@ pub fn register(engine: &mut rhai::Engine) {
             let term = Term::from_parameters(kind, &values)
                 .and_then(|t| t.check().map(|()| t))
                 .map_err(|e| format!("term '{name}': {e}"))?;
+            v.edit(|_, _, _, terms| match terms.iter_mut().find(|t| t.name == name) {
+                Some(t) => t.term = term,
+                None => terms.push(NamedTerm { name: name.to_string(), term }),
+            });
+            Ok(v.clone())
+        },
+    );
+    // Function terms: the parameter is the formula's text.
+    engine.register_fn(
+        "term",
+        |v: &mut VariableHandle, name: &str, kind: &str, formula: &str| -> Res<VariableHandle> {
+            let term = formula_term(name, kind, formula)?;
+            let mut duplicate = false;
+            v.edit(|_, _, _, terms| {
+                duplicate = terms.iter().any(|t| t.name == name);
+                if !duplicate {
+                    terms.push(NamedTerm { name: name.to_string(), term });
+                }
+            });
+            if duplicate {
+                return fail(format!("the variable already has a term named '{name}'"));
+            }
+            Ok(v.clone())
+        },
+    );
+    engine.register_fn(
+        "set_term",
+        |v: &mut VariableHandle, name: &str, kind: &str, formula: &str| -> Res<VariableHandle> {
+            let term = formula_term(name, kind, formula)?;
             v.edit(|_, _, _, terms| match terms.iter_mut().find(|t| t.name == name) {
                 Some(t) => t.term = term,
                 None => terms.push(NamedTerm { name: name.to_string(), term }),
@@ -383,6 +422,26 @@ mod tests {
         );
         let err = load(&deep).unwrap_err();
         assert!(err.message.contains("nested deeper"), "{err}");
+    }
+
+    #[test]
+    fn function_terms_take_a_formula() {
+        let load = |body: &str| {
+            let src = format!(
+                "let e = fuzzy_engine(\"f\");\nlet d = e.input(\"d\", 0, 1);\n{body}\n\
+                 let o = e.output(\"o\", 0, 1);\no.term(\"b\", \"triangle\", [0, 0.5, 1]);\ne"
+            );
+            load_engines(&src, "f.rhai", Limits::default(), &ScriptLog::new())
+        };
+        let engines = load("d.term(\"a\", \"Function\", \"1 - x * d\");").unwrap();
+        assert_eq!(engines[0].inputs[0].terms[0].term, Term::function("1 - x * d").unwrap());
+        let err = load("d.term(\"a\", \"function\", \"1 - sin(x\");").unwrap_err();
+        assert_eq!(err.line, 3, "{err}");
+        assert!(err.message.contains("column 5 of the formula") && err.message.contains("never closed"), "{err}");
+        let err = load("d.term(\"a\", \"function\", \"1 - y\");").unwrap_err();
+        assert!(err.message.contains("'y'"), "{err}");
+        let err = load("d.set_term(\"a\", \"triangle\", \"1 - x\");").unwrap_err();
+        assert!(err.message.contains("array of numbers"), "{err}");
     }
 
     const SCRIPT: &str = r#"
