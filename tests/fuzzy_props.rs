@@ -543,14 +543,15 @@ proptest! {
     }
 }
 
-/// The same on the engines the repository ships: the fixtures, the benchmark engines and every
-/// engine of the navigation scripts.
+/// The same on the engines the repository ships: the fixtures (formulas reading outputs among
+/// them), the benchmark engines and every engine of the navigation scripts.
 #[test]
 fn shipped_engines_columns_equal_rows() {
     let root = env!("CARGO_MANIFEST_DIR");
     let mut engines = Vec::new();
     let shipped = [
         "tests/fixtures/fuzzy/tipper.fll",
+        "tests/fuzz_corpus/fll/function.fll",
         "benches/fixtures/narrow.fll",
         "benches/fixtures/wide.fll",
         "benches/fixtures/crowded.fll",

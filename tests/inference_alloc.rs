@@ -76,6 +76,10 @@ fn process_allocates_nothing() {
         let text = std::fs::read_to_string(format!("{root}/{script}")).unwrap();
         engines.extend(load_engines(&text, script, Limits::default(), &ScriptLog::new()).unwrap());
     }
+    // Formulas: on inputs, on a Takagi-Sugeno output and on a Mamdani output sampled again
+    // at every step (it reads the output defuzzified before it).
+    let formulas = std::fs::read_to_string(format!("{root}/tests/fuzz_corpus/fll/function.fll")).unwrap();
+    engines.push(fll::import(&formulas, "function.fll").unwrap());
     let specials = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1e300, 0.0];
     for engine in &engines {
         let mut inference = Inference::new(engine).unwrap();

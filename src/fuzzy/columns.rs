@@ -3,8 +3,9 @@
 //! [`Inference::process`] called row after row (the inference of seed 000 §3.1, for arrays of
 //! inputs from Python and batch tools).
 //!
-//! Rows go in chunks of [`CHUNK`]. When every enabled rule block fires by general activation
-//! and every proposition reads an input (the common case: no rule reads an output), a chunk is
+//! Rows go in chunks of [`CHUNK`]. When every enabled rule block fires by general activation,
+//! every proposition reads an input and no `Function` term's formula reads an output (the
+//! common case: nothing depends on the outputs of the row before or of the same row), a chunk is
 //! evaluated column by column: the clamped inputs, each proposition's membership, each rule's
 //! degree, each one a tight loop over the chunk. Each element is computed by the same
 //! operations in the same order as the scalar evaluation, so only the loop order changes.
