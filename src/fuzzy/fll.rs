@@ -654,7 +654,7 @@ RuleBlock:
             let err = import(&bad, "f.fll").unwrap_err();
             let line = line_of(&bad, to);
             let col = bad.lines().nth(line - 1).unwrap().chars().count();
-            (err.line == line).then_some(()).unwrap_or_else(|| panic!("{to}: {err}"));
+            assert_eq!(err.line, line, "{to}: {err}");
             (err, col)
         };
         // Unbalanced: pointed at the unclosed call.
