@@ -13,6 +13,11 @@
 //! some degree leaves it (weights above 1, unbounded sums) is folded activation by activation
 //! in firing order over every sample.
 //!
+//! `Function` terms run their compiled formulas with the names bound to this engine's inputs
+//! and outputs (on the inference's own copy of the engine). An output term whose formula reads
+//! a variable is sampled again when its output is defuzzified; a sample that is not finite
+//! (a formula's NaN or infinity) sends its output down the firing-order fold as well.
+//!
 //! The centroid under maximum aggregation with minimum or product implication — the common
 //! Mamdani and Larsen engines — has two paths when every sample of the output's terms is finite
 //! and non-negative (so `max` folds the implied terms in any order to the same aggregate):
@@ -290,7 +295,7 @@ pub(crate) fn combine(a: f64, b: f64, op: impl FnOnce(f64, f64) -> f64) -> f64 {
 }
 
 impl Inference {
-    /// Validates and compiles `engine`.
+    /// Validates and compiles `engine` (its formulas bound to its variables).
     pub fn new(engine: &Engine) -> Result<Inference, EngineError> {
         engine.validate()?;
         let mut bound = engine.clone();
