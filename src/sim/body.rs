@@ -95,6 +95,11 @@ pub trait Body {
     fn passage_m(&self) -> f64 {
         2.0 * self.radius()
     }
+    /// The body's extent in the plane now: its disc unless it stands otherwise (a character
+    /// side-on, [`super::side_on`]).
+    fn footprint(&self) -> super::side_on::Footprint {
+        super::side_on::Footprint::Disc { centre: self.pose().position, radius: self.radius() }
+    }
     /// Advances by `dt` seconds following `command` through `space`.
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome;
 }
