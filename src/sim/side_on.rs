@@ -247,8 +247,8 @@ impl SideOn {
                     // The pivot whose end, warped toward the heading wanted from where it ends,
                     // comes nearest to it.
                     let mut best: Option<(f64, Choice)> = None;
-                    for a in 0..cands.len() {
-                        let k = db.kinds[cands[a].interval];
+                    for (a, cand) in cands.iter().enumerate() {
+                        let k = db.kinds[cand.interval];
                         if k.spot_turn == 0 || !ok(a) {
                             continue;
                         }
