@@ -410,7 +410,8 @@ mod tests {
         )
         .unwrap();
         let (d, part) = clearance(&caps, prisms(&[shelf]), 1.0).unwrap();
-        assert!(matches!(part, Part::UpperArm(0) | Part::Forearm(0)), "{part:?}");
+        // The shoulder is nearest: the collarbone's end and the upper arm's start, at one distance.
+        assert!(matches!(part, Part::Collarbone(0) | Part::UpperArm(0) | Part::Forearm(0)), "{part:?}");
         assert!((d - 0.1).abs() < 0.01, "{d}");
         assert!(clearance(&caps, prisms(&[]), 1.0).is_none());
     }
