@@ -14,57 +14,10 @@
 
 use glam::DVec2;
 
-use super::body::Space;
+pub use super::body::{Footprint, SIDE_ON_FORWARD_M, SIDE_ON_HALF_AXIS_M, SIDE_ON_RADIUS_M};
 use crate::anim::player::{Choice, SwitchPoint};
 use crate::anim::{Database, Ground};
 use crate::geom::wrap_angle;
-
-/// The body's extent in the plane.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Footprint {
-    /// The walking disc.
-    Disc {
-        /// Centre.
-        centre: DVec2,
-        /// Radius, metres.
-        radius: f64,
-    },
-    /// Side-on: a capsule along the shoulders.
-    Capsule {
-        /// One end of its axis.
-        a: DVec2,
-        /// The other end.
-        b: DVec2,
-        /// Radius, metres.
-        radius: f64,
-    },
-}
-
-/// Half the length of the side-on capsule's axis, along the shoulders, metres.
-pub const SIDE_ON_HALF_AXIS_M: f64 = 0.31;
-/// Radius of the side-on capsule, metres: half the body's depth, chest to back and heel to toe.
-pub const SIDE_ON_RADIUS_M: f64 = 0.15;
-/// How far ahead of the root the side-on capsule's axis lies, metres (the feet reach forward).
-pub const SIDE_ON_FORWARD_M: f64 = 0.095;
-
-impl Footprint {
-    /// The side-on capsule of a body whose ground reference is `g`.
-    pub fn side_on(g: Ground) -> Footprint {
-        let f = DVec2::from_angle(g.yaw);
-        let c = DVec2::new(g.x, g.y) + f * SIDE_ON_FORWARD_M;
-        let l = f.perp() * SIDE_ON_HALF_AXIS_M;
-        Footprint::Capsule { a: c - l, b: c + l, radius: SIDE_ON_RADIUS_M }
-    }
-
-    /// Room between it and the nearest thing in `space` (negative: overlapping, down to its
-    /// radius), looked for up to `max` metres.
-    pub fn room(&self, space: &mut dyn Space, max: f64) -> f64 {
-        match *self {
-            Footprint::Disc { centre, radius } => space.clearance(centre, max + radius) - radius,
-            Footprint::Capsule { a, b, radius } => space.segment_clearance(a, b, max + radius) - radius,
-        }
-    }
-}
 
 /// A gap the way goes through: its middle, the unit direction through it, its width (metres).
 #[derive(Debug, Clone, Copy, PartialEq)]
