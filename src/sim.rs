@@ -13,6 +13,7 @@ pub mod follow;
 pub mod footing;
 pub mod memory;
 pub mod sense;
+pub mod side_on;
 pub mod upper_body;
 
 use glam::DVec2;
@@ -180,6 +181,14 @@ impl AgentBody {
             AgentBody::Disc(_) => None,
         }
     }
+
+    /// The animated character, if this is one, to change.
+    pub fn animated_mut(&mut self) -> Option<&mut AnimatedBody> {
+        match self {
+            AgentBody::Animated(a) => Some(a),
+            AgentBody::Disc(_) => None,
+        }
+    }
 }
 
 impl Body for AgentBody {
@@ -215,6 +224,13 @@ impl Body for AgentBody {
         match self {
             AgentBody::Disc(d) => d.passage_m(),
             AgentBody::Animated(a) => a.passage_m(),
+        }
+    }
+
+    fn footprint(&self) -> side_on::Footprint {
+        match self {
+            AgentBody::Disc(d) => d.footprint(),
+            AgentBody::Animated(a) => a.footprint(),
         }
     }
 
@@ -557,10 +573,22 @@ impl Simulation {
             m.steps += 1;
             m.follows = agent.controller.follow_count();
             let p = agent.body.pose().position;
-            let mut gap = world.clearance(p, params.layout.range, scratch) - radius;
-            for &(c, r) in others.iter() {
-                gap = gap.min(c.distance(p) - r - radius);
-            }
+            let gap = match agent.body.footprint() {
+                side_on::Footprint::Capsule { a, b, radius } => {
+                    let mut gap = world.segment_clearance(a, b, params.layout.range, scratch) - radius;
+                    for &(c, r) in others.iter() {
+                        gap = gap.min(point_segment_distance(c, a, b) - r - radius);
+                    }
+                    gap
+                }
+                side_on::Footprint::Disc { .. } => {
+                    let mut gap = world.clearance(p, params.layout.range, scratch) - radius;
+                    for &(c, r) in others.iter() {
+                        gap = gap.min(c.distance(p) - r - radius);
+                    }
+                    gap
+                }
+            };
             m.min_clearance_m = m.min_clearance_m.min(gap);
             if gap < -1e-9 {
                 m.collisions += 1;
@@ -589,6 +617,13 @@ const STUCK_GOAL_M: f64 = 1.0;
 
 /// Obstacle points within this free distance count as the boundary being followed, metres.
 pub const FOLLOWED_REACH_M: f64 = 1.2;
+
+/// Distance from `p` to the segment `a`–`b`.
+fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance(a + ab * t)
+}
 
 /// The discs (centre, radius) of every agent but `i`, into `out`.
 fn discs_except(agents: &[Agent], i: usize, out: &mut Vec<(DVec2, f64)>) {

@@ -27,6 +27,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
 use super::footing::Footing;
+use super::side_on::{Footprint, Gap, Phase, SideOn};
 use super::upper_body::UpperBodyState;
 use crate::anim::player::{Choice, Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
 use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
@@ -222,6 +223,8 @@ pub struct AnimatedBody {
     upper: Option<Box<UpperBodyState>>,
     /// Switches of the player the upper body has taken its plan at.
     upper_switches: u64,
+    /// The side-on manoeuvre through a narrow gap, while it runs (see [`super::side_on`]).
+    side_on: Option<SideOn>,
 }
 
 /// The look-ahead chooser: ranks the candidates and takes the best one whose path is clear.
@@ -289,6 +292,14 @@ fn keeps_room(space: &mut dyn Space, from: DVec2, to: DVec2, radius: f64) -> boo
     let want = radius + KEEP_ROOM_M;
     let after = space.clearance(to, want + 1e-9);
     after >= want || (is_free(space, to, radius) && after >= space.clearance(from, want + 1e-9))
+}
+
+/// [`keeps_room`] for the side-on capsule: the capsule at `to` keeps [`super::side_on::KEEP_M`]
+/// or, when it is already closer at `from`, gets no closer.
+fn side_on_keeps_room(space: &mut dyn Space, from: Ground, to: Ground) -> bool {
+    let keep = super::side_on::KEEP_M;
+    let after = Footprint::side_on(to).room(space, keep + 1e-9);
+    after >= keep - 1e-9 || (after >= 0.0 && after >= Footprint::side_on(from).room(space, keep + 1e-9))
 }
 
 /// The room at `from` for a body that wants `want` metres (centre to obstacle): what there is,
@@ -568,6 +579,52 @@ impl Chooser for LookAhead<'_> {
     }
 }
 
+/// The side-on manoeuvre's choices while it runs, the look-ahead's after.
+struct SideOnChooser<'a, 'b> {
+    side: &'a mut SideOn,
+    look: LookAhead<'b>,
+}
+
+impl Chooser for SideOnChooser<'_, '_> {
+    fn choose(&mut self, db: &Database, at: &SwitchPoint) -> Choice {
+        let radius = self.look.radius;
+        let limits = self.look.anim.policy.params.warp;
+        let space = &mut *self.look.space;
+        let path = &mut *self.look.path;
+        // The room a root path keeps beyond what it must keep: the disc's KEEP_ROOM_M, the
+        // side-on capsule's KEEP_M along the heading `yaw`, or what there is at its start when
+        // less (never closer).
+        let mut room = |pts: &[DVec2], yaw: Option<f64>| -> f64 {
+            let Some(&first) = pts.first() else { return 0.0 };
+            match yaw {
+                None => {
+                    let want = radius + KEEP_ROOM_M;
+                    let need = space.clearance(first, want + 1e-9).min(want) - 1e-6;
+                    let far = want + 1.0;
+                    let least = match pts {
+                        [p] => space.clearance(*p, far),
+                        _ => pts.windows(2).map(|w| space.segment_clearance(w[0], w[1], far)).fold(far, f64::min),
+                    };
+                    least - need
+                }
+                Some(yaw) => {
+                    let keep = super::side_on::KEEP_M;
+                    let fp = |p: DVec2| Footprint::side_on(Ground { x: p.x, y: p.y, yaw });
+                    let need = fp(first).room(space, keep + 1e-9).min(keep) - 1e-6;
+                    pts.iter().map(|&p| fp(p).room(space, keep + 1.0)).fold(f64::INFINITY, f64::min) - need
+                }
+            }
+        };
+        match self.side.choose(db, at, path, &mut room, LOCK_REACH_M, &limits) {
+            Some(c) => {
+                self.look.held = false;
+                c
+            }
+            None => self.look.choose(db, at),
+        }
+    }
+}
+
 impl AnimatedBody {
     /// A character standing at `pose` in the slowest interval of the database.
     pub fn new(anim: Arc<Animation>, pose: Pose, radius: f64) -> AnimatedBody {
@@ -598,6 +655,7 @@ impl AnimatedBody {
             motion: None,
             upper: None,
             upper_switches: 0,
+            side_on: None,
             anim,
         }
     }
@@ -630,6 +688,25 @@ impl AnimatedBody {
             u.planner_body().apply(&mut pose, &c);
         }
         pose
+    }
+
+    /// Passes `gap` side-on (see [`super::side_on`]): from now on, until the manoeuvre is over,
+    /// the character stops, pivots side-on, side-steps through the gap and pivots back,
+    /// whatever it is commanded. Nothing happens while a manoeuvre runs already.
+    pub fn pass_side_on(&mut self, gap: Gap) {
+        if !self.side_on.is_some_and(|m| m.active()) {
+            self.side_on = Some(SideOn::new(gap, self.player.ground()));
+        }
+    }
+
+    /// The side-on manoeuvre, running or the last one's end.
+    pub fn side_on(&self) -> Option<&SideOn> {
+        self.side_on.as_ref()
+    }
+
+    /// How the last side-on manoeuvre stands ([`Phase::Done`] once through).
+    pub fn side_on_phase(&self) -> Option<Phase> {
+        self.side_on.map(|m| m.phase)
     }
 
     /// Gives the character an upper body that plans around the obstacles it can touch (see
@@ -811,6 +888,16 @@ impl Body for AnimatedBody {
         2.0 * (self.radius + self.anim.clearance_m + PASSAGE_SLACK_M)
     }
 
+    fn footprint(&self) -> Footprint {
+        match self.side_on {
+            Some(m) if m.sideways => Footprint::side_on(self.player.ground()),
+            _ => {
+                let g = self.player.ground();
+                Footprint::Disc { centre: DVec2::new(g.x, g.y), radius: self.radius }
+            }
+        }
+    }
+
     fn turn_limit(&self, speed: f64) -> f64 {
         self.anim.turn_limit(speed)
     }
@@ -831,10 +918,13 @@ impl Body for AnimatedBody {
             }
         }
         self.desired_heading = before.yaw + ahead;
-        if space.changes() {
+        let manoeuvring = self.side_on.is_some_and(|m| m.active());
+        if space.changes() && !manoeuvring {
             self.early_switch(space);
         }
-        self.restride(space);
+        if !manoeuvring {
+            self.restride(space);
+        }
         let frames = ((dt * self.player.params.frame_rate) + 1e-9).floor().max(1.0) as usize;
         let anim = Arc::clone(&self.anim);
         let mut outcome = StepOutcome::default();
@@ -860,8 +950,19 @@ impl Body for AnimatedBody {
                 upper: self.upper.as_deref_mut().zip(start),
                 refused: 0,
             };
-            self.player.advance_frame(&anim.db, &mut chooser);
-            self.held = chooser.held;
+            let sideways_before = self.side_on.is_some_and(|m| m.sideways);
+            match self.side_on.as_mut().filter(|m| m.active()) {
+                Some(side) => {
+                    let mut both = SideOnChooser { side, look: chooser };
+                    self.player.advance_frame(&anim.db, &mut both);
+                    self.held = both.look.held;
+                }
+                None => {
+                    self.player.advance_frame(&anim.db, &mut chooser);
+                    self.held = chooser.held;
+                }
+            }
+            let sideways = sideways_before || self.side_on.is_some_and(|m| m.sideways);
             let mut now = self.player.ground();
             if let Some(f) = self.footing.as_deref_mut() {
                 if self.player.metrics.switches != self.footing_switches {
@@ -885,7 +986,9 @@ impl Body for AnimatedBody {
             }
             let to = DVec2::new(now.x, now.y);
             let from = DVec2::new(prev.x, prev.y);
-            if to != from && !keeps_room(space, from, to, self.radius) {
+            let room_kept =
+                if sideways { side_on_keeps_room(space, prev, now) } else { keeps_room(space, from, to, self.radius) };
+            if to != from && !room_kept {
                 // Last resort: the root stays, the locked feet with it.
                 self.player.hold(&anim.db, Ground { yaw: now.yaw, ..prev });
                 outcome.blocked = true;

@@ -46,6 +46,53 @@ impl StepOutcome {
     }
 }
 
+/// The body's extent in the plane (the side-on capsule: [`super::side_on`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Footprint {
+    /// The walking disc.
+    Disc {
+        /// Centre.
+        centre: DVec2,
+        /// Radius, metres.
+        radius: f64,
+    },
+    /// Side-on: a capsule along the shoulders.
+    Capsule {
+        /// One end of its axis.
+        a: DVec2,
+        /// The other end.
+        b: DVec2,
+        /// Radius, metres.
+        radius: f64,
+    },
+}
+
+/// Half the length of the side-on capsule's axis, along the shoulders, metres.
+pub const SIDE_ON_HALF_AXIS_M: f64 = 0.31;
+/// Radius of the side-on capsule, metres: half the body's depth, chest to back and heel to toe.
+pub const SIDE_ON_RADIUS_M: f64 = 0.15;
+/// How far ahead of the root the side-on capsule's axis lies, metres (the feet reach forward).
+pub const SIDE_ON_FORWARD_M: f64 = 0.095;
+
+impl Footprint {
+    /// The side-on capsule of a body whose ground reference is `g`.
+    pub fn side_on(g: crate::anim::Ground) -> Footprint {
+        let f = DVec2::from_angle(g.yaw);
+        let c = DVec2::new(g.x, g.y) + f * SIDE_ON_FORWARD_M;
+        let l = f.perp() * SIDE_ON_HALF_AXIS_M;
+        Footprint::Capsule { a: c - l, b: c + l, radius: SIDE_ON_RADIUS_M }
+    }
+
+    /// Room between it and the nearest thing in `space` (negative: overlapping, down to its
+    /// radius), looked for up to `max` metres.
+    pub fn room(&self, space: &mut dyn Space, max: f64) -> f64 {
+        match *self {
+            Footprint::Disc { centre, radius } => space.clearance(centre, max + radius) - radius,
+            Footprint::Capsule { a, b, radius } => space.segment_clearance(a, b, max + radius) - radius,
+        }
+    }
+}
+
 /// What a body can see of its surroundings: obstacles and other agents, as clearances.
 pub trait Space {
     /// Distance from `p` to the nearest obstacle or other agent (0 inside), capped at `max`,
@@ -94,6 +141,11 @@ pub trait Body {
     /// a margin beyond it.
     fn passage_m(&self) -> f64 {
         2.0 * self.radius()
+    }
+    /// The body's extent in the plane now: its disc unless it stands otherwise (a character
+    /// side-on, [`super::side_on`]).
+    fn footprint(&self) -> Footprint {
+        Footprint::Disc { centre: self.pose().position, radius: self.radius() }
     }
     /// Advances by `dt` seconds following `command` through `space`.
     fn step(&mut self, command: Command, dt: f64, space: &mut dyn Space) -> StepOutcome;

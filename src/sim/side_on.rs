@@ -1,0 +1,313 @@
+//! Side-on passage (issue 26): a character fits through a slot narrower than its shoulders by
+//! turning side-on — chest and hips about 0.3 m deep instead of 0.46 m wide — and stepping
+//! sideways through it.
+//!
+//! [`SideOn`] is the manoeuvre: standing in front of the gap (it stops first), the character
+//! pivots on the spot until its side points through the gap's middle, side-steps along that
+//! line until its disc has room past the gap, and pivots back to face the gap's way out. Its
+//! choices at the switch points are explicit candidates of the database: a stop, the pivots
+//! (warped to the heading wanted, the pivot's own drift of the root taken into account) and the
+//! side steps (which play unwarped). While it side-steps, the body's extent in the plane is
+//! [`Footprint::side_on`], a capsule along the shoulders, not the walking disc: every frame,
+//! the 2-D collision count and the look-ahead use it. The capsule holds every bone of the side
+//! steps (`the_side_on_capsule_holds_every_bone_of_the_side_steps`).
+
+use glam::DVec2;
+
+pub use super::body::{Footprint, SIDE_ON_FORWARD_M, SIDE_ON_HALF_AXIS_M, SIDE_ON_RADIUS_M};
+use crate::anim::player::{Choice, SwitchPoint};
+use crate::anim::{Database, Ground};
+use crate::geom::wrap_angle;
+
+/// A gap the way goes through: its middle, the unit direction through it, its width (metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gap {
+    /// The middle of the gap.
+    pub centre: DVec2,
+    /// Unit direction of the way through it.
+    pub through: DVec2,
+    /// Width across, metres.
+    pub width: f64,
+}
+
+/// Narrowest gap the side-on body passes, metres: the capsule's depth and the room
+/// [`KEEP_M`] on both sides, and a little for the pivot's drift.
+pub const SIDE_ON_PASSAGE_M: f64 = 2.0 * (SIDE_ON_RADIUS_M + KEEP_M) + 0.1;
+
+/// Room the side-on capsule keeps from obstacles along a side step, metres.
+pub const KEEP_M: f64 = 0.02;
+
+/// The side steps go on until the root is this far past the gap's middle, metres.
+const PAST_M: f64 = 0.5;
+
+/// Turned back, a pivot is good enough within this of the way through, radians (11°).
+const TURN_TOL: f64 = 0.2;
+
+/// Least cosine between the leading side and the way through the gap (20°).
+const LEAD_COS: f64 = 0.94;
+
+/// Most switch points the manoeuvre takes before it gives up.
+const MAX_SWITCHES: u32 = 80;
+
+/// Where the manoeuvre stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Coming to a stand.
+    Stop,
+    /// Pivoting side-on.
+    Turn,
+    /// Side-stepping through.
+    Slide,
+    /// Pivoting back to face the way out.
+    TurnBack,
+    /// Through and facing the way on.
+    Done,
+    /// Something was in the way: given up where it stands.
+    Failed,
+}
+
+/// The side-on manoeuvre through one gap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SideOn {
+    /// The gap.
+    pub gap: Gap,
+    /// Where it stands.
+    pub phase: Phase,
+    /// The side the side steps go to: +1 left, −1 right (the database's shuffle sign).
+    side: i8,
+    /// The unit direction of the side steps, fixed when the pivot side-on is chosen.
+    travel: DVec2,
+    /// The body plays a side step now (its extent is the side-on capsule).
+    pub sideways: bool,
+    /// The pivot to go on with once standing.
+    resume: Phase,
+    switches: u32,
+}
+
+impl SideOn {
+    /// The manoeuvre through `gap` for a body at `g`.
+    pub fn new(gap: Gap, g: Ground) -> SideOn {
+        // Side-on with the smaller pivot: turning right leaves the left side leading.
+        let face = gap.through.to_angle();
+        let right = wrap_angle(face - std::f64::consts::FRAC_PI_2 - g.yaw).abs();
+        let left = wrap_angle(face + std::f64::consts::FRAC_PI_2 - g.yaw).abs();
+        let side = if right <= left { 1 } else { -1 };
+        SideOn { gap, phase: Phase::Stop, side, travel: gap.through, sideways: false, resume: Phase::Turn, switches: 0 }
+    }
+
+    /// True while the manoeuvre drives the body.
+    pub fn active(&self) -> bool {
+        !matches!(self.phase, Phase::Done | Phase::Failed)
+    }
+
+    /// The facing that points the leading side along `travel`.
+    fn facing(&self, travel: DVec2) -> f64 {
+        wrap_angle(travel.to_angle() - f64::from(self.side) * std::f64::consts::FRAC_PI_2)
+    }
+
+    /// The choice at `at`, with `room(path, side_on)` the room a root path keeps (for the disc,
+    /// or for the side-on capsule along it) and `path` scratch; `None` when the manoeuvre is
+    /// over (the phase says how) and the body's own chooser takes over.
+    pub fn choose(
+        &mut self,
+        db: &Database,
+        at: &SwitchPoint,
+        path: &mut Vec<DVec2>,
+        room: &mut dyn FnMut(&[DVec2], Option<f64>) -> f64,
+        reach: f64,
+        limits: &crate::anim::warp::WarpLimits,
+    ) -> Option<Choice> {
+        self.switches += 1;
+        if self.switches > MAX_SWITCHES && self.active() {
+            self.phase = if self.sideways { Phase::Slide } else { Phase::Failed };
+        }
+        let cands = &db.candidates[at.ending];
+        let p = DVec2::new(at.ground.x, at.ground.y);
+        let standing = db.kinds[at.ending].ends_at_rest;
+        let ok = |a: usize| at.reach_gap(db, a) <= reach;
+        loop {
+            match self.phase {
+                Phase::Done | Phase::Failed => {
+                    self.sideways = false;
+                    return None;
+                }
+                Phase::Stop => {
+                    if standing {
+                        self.phase = self.resume;
+                        continue;
+                    }
+                    // The first candidate that stands or stops, clear for the disc.
+                    let pick = (0..cands.len()).find(|&a| {
+                        let k = db.kinds[cands[a].interval];
+                        ok(a) && (k.stops || (k.in_place && k.spot_turn == 0)) && {
+                            path.clear();
+                            at.path(db, Choice::from(a), path);
+                            room(path, None) >= 0.0
+                        }
+                    });
+                    return match pick {
+                        Some(a) => Some(Choice::from(a)),
+                        None => {
+                            self.phase = Phase::Failed;
+                            None
+                        }
+                    };
+                }
+                Phase::Turn | Phase::TurnBack => {
+                    let back = self.phase == Phase::TurnBack;
+                    let want = |q: DVec2| {
+                        if back {
+                            self.gap.through.to_angle()
+                        } else {
+                            // The side leads through the gap's middle from where it stands.
+                            // The capsule's axis, ahead of the root, through the middle.
+                            let mut face = self.facing(self.gap.through);
+                            for _ in 0..3 {
+                                let to = self.gap.centre - DVec2::from_angle(face) * SIDE_ON_FORWARD_M - q;
+                                let travel =
+                                    if to.dot(self.gap.through) > 0.05 { to.normalize() } else { self.gap.through };
+                                face = self.facing(travel);
+                            }
+                            face
+                        }
+                    };
+                    // Standing, it goes on when its leading side points through the gap: the
+                    // line it side-steps along passes the gap's middle with room for the capsule.
+                    let lead = DVec2::from_angle(at.ground.yaw + f64::from(self.side) * std::f64::consts::FRAC_PI_2);
+                    let axis = p + DVec2::from_angle(at.ground.yaw) * SIDE_ON_FORWARD_M;
+                    let off = lead.perp_dot(self.gap.centre - axis).abs();
+                    let slack = 0.5 * (self.gap.width - 2.0 * SIDE_ON_RADIUS_M) - KEEP_M - 0.01;
+                    let lined_up = if back {
+                        wrap_angle(want(p) - at.ground.yaw).abs() <= TURN_TOL
+                    } else {
+                        off <= slack && lead.dot(self.gap.through) >= LEAD_COS
+                    };
+                    if standing && lined_up {
+                        if back {
+                            self.phase = Phase::Done;
+                        } else {
+                            self.travel =
+                                DVec2::from_angle(at.ground.yaw + f64::from(self.side) * std::f64::consts::FRAC_PI_2);
+                            self.phase = Phase::Slide;
+                        }
+                        continue;
+                    }
+                    if !standing {
+                        self.resume = self.phase;
+                        self.phase = Phase::Stop;
+                        continue;
+                    }
+                    // The pivot whose end, warped toward the heading wanted from where it ends,
+                    // comes nearest to it.
+                    let mut best: Option<(f64, Choice)> = None;
+                    for (a, cand) in cands.iter().enumerate() {
+                        let k = db.kinds[cand.interval];
+                        if k.spot_turn == 0 || !ok(a) {
+                            continue;
+                        }
+                        let mut target = want(p);
+                        let mut choice = Choice::from(a);
+                        for _ in 0..3 {
+                            let direction = wrap_angle(target - at.ground.yaw);
+                            choice = Choice { candidate: a, warp: at.warp_toward(db, a, direction, 0.0, limits) };
+                            path.clear();
+                            let then = at.path(db, choice, path);
+                            target = want(DVec2::new(then.ground.x, then.ground.y));
+                        }
+                        path.clear();
+                        let then = at.path(db, choice, path);
+                        let err = wrap_angle(want(DVec2::new(then.ground.x, then.ground.y)) - then.ground.yaw).abs();
+                        if room(path, None) >= 0.0 && best.is_none_or(|(e, _)| err < e - 1e-9) {
+                            best = Some((err, choice));
+                        }
+                    }
+                    return match best {
+                        Some((_, c)) => {
+                            self.sideways = false;
+                            Some(c)
+                        }
+                        None => {
+                            self.phase = Phase::Failed;
+                            None
+                        }
+                    };
+                }
+                Phase::Slide => {
+                    let past = (p - self.gap.centre).dot(self.travel);
+                    // Mid-step: the step's other foot closes.
+                    let mid = db.kinds[at.ending].shuffle == self.side && !standing;
+                    if past > PAST_M && !mid {
+                        self.phase = Phase::TurnBack;
+                        continue;
+                    }
+                    let pick = (0..cands.len()).find(|&a| {
+                        let iv = cands[a].interval;
+                        ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == self.side }
+                    });
+                    let Some(a) = pick else {
+                        self.phase = if mid { Phase::Slide } else { Phase::Failed };
+                        if mid {
+                            return Some(Choice::from(0));
+                        }
+                        continue;
+                    };
+                    path.clear();
+                    at.path(db, Choice::from(a), path);
+                    if !mid && room(path, Some(at.ground.yaw)) < 0.0 {
+                        // Blocked: stand where it is.
+                        self.phase = Phase::Failed;
+                        continue;
+                    }
+                    self.sideways = true;
+                    return Some(Choice::from(a));
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The capsule holds every bone of the side steps and of standing, in every frame of their
+    /// clips, by forward kinematics (points 1 cm apart along each bone).
+    #[test]
+    fn the_side_on_capsule_holds_every_bone_of_the_side_steps() {
+        let db = crate::builtin::database().unwrap();
+        let sk = &db.skeleton;
+        let mut g = Vec::new();
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let mut worst = f64::NEG_INFINITY;
+        for (ci, clip) in db.clips.iter().enumerate() {
+            if !(clip.name.starts_with("side_step") || clip.name == "idle") {
+                continue;
+            }
+            for (f, pose) in clip.frames.iter().enumerate() {
+                let at = db.ground(ci, f as f64);
+                sk.globals(pose, &mut g);
+                for (i, j) in sk.joints().iter().enumerate() {
+                    let mut ends = Vec::new();
+                    if let Some(p) = j.parent {
+                        ends.push((g[p].0, g[i].0));
+                    }
+                    if j.end_site.is_some() {
+                        ends.push((g[i].0, sk.tip(&g, i)));
+                    }
+                    for (a, b) in ends {
+                        for s in 0..=20 {
+                            let q = a.lerp(b, f64::from(s) / 20.0);
+                            let d = DVec2::new(q.x - at.x, q.y - at.y).rotate(DVec2::from_angle(-at.yaw));
+                            lo = lo.min(d);
+                            hi = hi.max(d);
+                            let c = DVec2::new(SIDE_ON_FORWARD_M, d.y.clamp(-SIDE_ON_HALF_AXIS_M, SIDE_ON_HALF_AXIS_M));
+                            worst = worst.max(d.distance(c) - SIDE_ON_RADIUS_M);
+                        }
+                    }
+                }
+            }
+        }
+        eprintln!("side-on bones: forward {:.3}..{:.3}, left {:.3}..{:.3}; worst {worst:.3}", lo.x, hi.x, lo.y, hi.y);
+        assert!(worst <= 0.0, "a bone {worst} m outside the capsule");
+    }
+}

@@ -1,0 +1,107 @@
+//! Side-on passage (issue 26): the character, standing in front of a slot narrower than its
+//! shoulders in a full-height wall, pivots side-on, side-steps through and pivots back — with
+//! no 2-D collision of the body's real extent and no bone of the played motion inside a wall,
+//! checked by forward kinematics with this test's own geometry.
+
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+use strider::maps::text;
+use strider::sim::side_on::{Gap, Phase};
+use strider::sim::{AnimationHandle, Body, Simulation, StepParameters};
+
+/// A room split at x = 0 by a wall 0.2 m thick whose only opening is a slot `width` wide
+/// centred on y = 0; the character stands at `start` facing `yaw`.
+fn slot_world(width: f64, start: DVec2, yaw: f64) -> (String, Vec<(DVec2, DVec2)>) {
+    let len = 3.0 - width / 2.0;
+    let c = width / 2.0 + len / 2.0;
+    let walls = vec![
+        (DVec2::new(0.0, c), DVec2::new(0.2, len)),
+        (DVec2::new(0.0, -c), DVec2::new(0.2, len)),
+        (DVec2::new(0.0, 3.1), DVec2::new(8.4, 0.2)),
+        (DVec2::new(0.0, -3.1), DVec2::new(8.4, 0.2)),
+        (DVec2::new(-4.1, 0.0), DVec2::new(0.2, 6.4)),
+        (DVec2::new(4.1, 0.0), DVec2::new(0.2, 6.4)),
+    ];
+    let mut t = format!("start {} {} {yaw}\ngoal 3 0\n", start.x, start.y);
+    for (c, s) in &walls {
+        t += &format!("box {} {} {} {}\n", c.x, c.y, s.x, s.y);
+    }
+    (t, walls)
+}
+
+/// A point more than a millimetre inside one of the walls (full height).
+fn inside(walls: &[(DVec2, DVec2)], p: DVec3) -> bool {
+    walls.iter().any(|(c, s)| (p.x - c.x).abs() < s.x / 2.0 - 1e-3 && (p.y - c.y).abs() < s.y / 2.0 - 1e-3)
+}
+
+#[test]
+fn the_character_passes_slots_narrower_than_its_shoulders_side_on() {
+    let anim = AnimationHandle(Arc::new(strider::builtin::animation().unwrap()));
+    let controller = strider::builtin::controller().unwrap();
+    let mut bad = Vec::new();
+    for width in [0.46, 0.50, 0.55, 0.60] {
+        for (start, yaw) in
+            [(DVec2::new(-0.6, 0.0), 0.0), (DVec2::new(-0.65, 0.08), -0.35), (DVec2::new(-0.6, -0.06), 0.3)]
+        {
+            let (world, walls) = slot_world(width, start, yaw);
+            let scenario = text::parse(&world, "slot.txt").unwrap();
+            let params = StepParameters { animation: Some(anim.clone()), record_motion: true, ..Default::default() };
+            let mut sim = Simulation::new(scenario.world(), params);
+            sim.add_agent(scenario.tasks[0], &controller);
+            let gap = Gap { centre: DVec2::ZERO, through: DVec2::X, width };
+            sim.agents[0].body.animated_mut().unwrap().pass_side_on(gap);
+            let mut steps = 0;
+            while steps < 1200 && sim.agents[0].body.animated().unwrap().side_on().is_some_and(|m| m.active()) {
+                sim.step();
+                steps += 1;
+            }
+            let a = &sim.agents[0];
+            let body = a.body.animated().unwrap();
+            let phase = body.side_on_phase();
+            let at = a.body.pose().position;
+            // Every bone of every frame played, 1 cm apart.
+            let sk = &body.animation().db.skeleton;
+            let mut g = Vec::new();
+            let mut bone_in = None;
+            let motion = body.motion().unwrap();
+            for (k, pose) in motion.iter().enumerate() {
+                sk.globals(pose, &mut g);
+                for (i, j) in sk.joints().iter().enumerate() {
+                    let mut ends = Vec::new();
+                    if let Some(p) = j.parent {
+                        ends.push((g[p].0, g[i].0));
+                    }
+                    if j.end_site.is_some() {
+                        ends.push((g[i].0, sk.tip(&g, i)));
+                    }
+                    for (p, q) in ends {
+                        let n = ((p.distance(q) / 0.01).ceil() as usize).max(1);
+                        for s in 0..=n {
+                            let x = p.lerp(q, s as f64 / n as f64);
+                            if bone_in.is_none() && inside(&walls, x) {
+                                bone_in = Some((k, j.name.clone(), x));
+                            }
+                        }
+                    }
+                }
+            }
+            eprintln!(
+                "slot {width} from {start} at {yaw}: {phase:?} in {:.1} s at ({:.2}, {:.2}), collisions {}, \
+                 {} frames, bone inside {bone_in:?}",
+                a.metrics.time_s,
+                at.x,
+                at.y,
+                a.metrics.collisions,
+                motion.len()
+            );
+            if phase != Some(Phase::Done) || at.x < 0.35 || a.metrics.collisions != 0 || bone_in.is_some() {
+                bad.push(format!(
+                    "slot {width} from {start}: {phase:?} at {at}, collisions {}, bone {bone_in:?}",
+                    a.metrics.collisions
+                ));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
