@@ -42,6 +42,7 @@
 //! Units: metres throughout.
 
 mod clearance;
+pub(crate) use clearance::point_segment_distance;
 mod visibility;
 
 use std::cmp::Ordering;

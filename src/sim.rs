@@ -577,7 +577,7 @@ impl Simulation {
                 side_on::Footprint::Capsule { a, b, radius } => {
                     let mut gap = world.segment_clearance(a, b, params.layout.range, scratch) - radius;
                     for &(c, r) in others.iter() {
-                        gap = gap.min(point_segment_distance(c, a, b) - r - radius);
+                        gap = gap.min(crate::plan::point_segment_distance(c, a, b) - r - radius);
                     }
                     gap
                 }
@@ -617,13 +617,6 @@ const STUCK_GOAL_M: f64 = 1.0;
 
 /// Obstacle points within this free distance count as the boundary being followed, metres.
 pub const FOLLOWED_REACH_M: f64 = 1.2;
-
-/// Distance from `p` to the segment `a`–`b`.
-fn point_segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let t = if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
-    p.distance(a + ab * t)
-}
 
 /// The discs (centre, radius) of every agent but `i`, into `out`.
 fn discs_except(agents: &[Agent], i: usize, out: &mut Vec<(DVec2, f64)>) {
