@@ -150,6 +150,8 @@ pub struct Agent {
     /// stays that near for [`STUCK_S`] closes the gaps just ahead of it that its body does not
     /// pass through.
     progress: (DVec2, f64),
+    /// Middles of the gaps where a side-on passage gave up once.
+    side_on_failed: Vec<DVec2>,
     scan: Vec<f64>,
     /// The last scan of the world's obstacles alone (no other agents).
     walls: Vec<f64>,
@@ -224,6 +226,13 @@ impl Body for AgentBody {
         match self {
             AgentBody::Disc(d) => d.passage_m(),
             AgentBody::Animated(a) => a.passage_m(),
+        }
+    }
+
+    fn narrowest_passage_m(&self) -> Option<f64> {
+        match self {
+            AgentBody::Disc(d) => d.narrowest_passage_m(),
+            AgentBody::Animated(a) => a.narrowest_passage_m(),
         }
     }
 
@@ -396,6 +405,10 @@ impl Simulation {
         controller.reset();
         let clearance = self.world.clearance(task.start.position, self.params.layout.range, &mut self.scratch)
             - self.params.limits.radius;
+        let mut memory = Memory::new(task.start.position, task.goal, self.params.limits.radius, self.params.memory);
+        if let Some(narrowest) = body.narrowest_passage_m() {
+            memory = memory.with_narrowest(narrowest);
+        }
         self.agents.push(Agent {
             body,
             controller,
@@ -416,7 +429,7 @@ impl Simulation {
             refusal,
             manual: None,
             autopilot: Command::default(),
-            memory: Memory::new(task.start.position, task.goal, self.params.limits.radius, self.params.memory),
+            memory,
             heading_to_goal: 0.0,
             route_m: f64::INFINITY,
             aim_m: f64::INFINITY,
@@ -424,6 +437,7 @@ impl Simulation {
             reachable_goal_distance: f64::INFINITY,
             obstacle_goal_distance: f64::INFINITY,
             progress: (task.start.position, 0.0),
+            side_on_failed: Vec::new(),
             scan: Vec::new(),
             walls: Vec::new(),
         });
@@ -515,6 +529,18 @@ impl Simulation {
                     agent.route_m = aim.remaining_m;
                     agent.aim_m = aim.waypoint_m;
                     agent.through_gap = aim.through_gap;
+                    if let Some(gap) = aim.gap {
+                        side_on_ahead(agent, gap);
+                    }
+                }
+                // A side-on passage that gave up twice at the same gap: the gap is closed and the
+                // next plan goes round.
+                if let Some(gap) = agent.body.animated_mut().and_then(AnimatedBody::take_failed_side_on) {
+                    if agent.side_on_failed.iter().any(|p| p.distance(gap.centre) < SIDE_ON_SAME_GAP_M) {
+                        agent.memory.seal(gap.centre);
+                    } else {
+                        agent.side_on_failed.push(gap.centre);
+                    }
                 }
                 // A way the body has not been able to follow for long may lead through a gap
                 // it does not fit through (the memory closes gaps at the disc's own width; a
@@ -601,6 +627,61 @@ impl Simulation {
             }
         }
         self.time_s = t + dt;
+    }
+}
+
+/// A narrow part of the way this near ahead (its throat's middle, along the way through it) is
+/// passed side-on, metres, and farther by [`SIDE_ON_STOP_S`] at the body's speed (it stops
+/// first).
+const SIDE_ON_START_M: f64 = 1.0;
+
+/// See [`SIDE_ON_START_M`], seconds.
+const SIDE_ON_STOP_S: f64 = 0.6;
+
+/// ... when the agent stands off the way through its middle by no more than this share of its
+/// distance along it (the side steps must lead through the gap within 20°) and
+/// [`SIDE_ON_OFF_M`].
+const SIDE_ON_OFF_SHARE: f64 = 0.3;
+
+/// See [`SIDE_ON_OFF_SHARE`], metres.
+const SIDE_ON_OFF_M: f64 = 0.05;
+
+/// A gap narrower than the walking disc and this much is passed side-on even where the
+/// remembered way through it is open to the walking disc, metres.
+const SIDE_ON_WALK_SLACK_M: f64 = 0.1;
+
+/// Gaps whose middles lie this near each other are the same, metres.
+const SIDE_ON_SAME_GAP_M: f64 = 0.3;
+
+/// The remembered way crosses cells only the narrowest stance crosses this near ahead, metres.
+const SIDE_ON_LOOK_M: f64 = 2.0;
+
+/// The way ahead of `agent`, at `at`, goes through `gap`: when the remembered way there is open
+/// only to the body's narrowest stance and the gap is just ahead, the body passes it in that
+/// stance (a character side-on, [`side_on`]) — or, measured too narrow even for that, the gap
+/// is closed and the next plan goes round.
+fn side_on_ahead(agent: &mut Agent, gap: side_on::Gap) {
+    let Some(narrowest) = agent.body.narrowest_passage_m() else { return };
+    let tight = gap.width < 2.0 * agent.body.radius() + SIDE_ON_WALK_SLACK_M;
+    if gap.width >= agent.body.passage_m() || !(tight || agent.memory.narrow_ahead(SIDE_ON_LOOK_M)) {
+        return;
+    }
+    let pose = agent.body.pose();
+    let along = (gap.centre - pose.position).dot(gap.through);
+    let stopping = SIDE_ON_STOP_S * agent.body.speed();
+    if !(along > 0.0 && along <= SIDE_ON_START_M + stopping) {
+        return;
+    }
+    // Where it comes to a stand, going on as it heads now.
+    let to = gap.centre - (pose.position + DVec2::from_angle(pose.yaw) * stopping);
+    let (along, off) = (to.dot(gap.through), to.perp_dot(gap.through).abs());
+    if gap.width < narrowest {
+        agent.memory.seal(gap.centre);
+    } else if along > 0.0
+        && off <= SIDE_ON_OFF_SHARE * along + SIDE_ON_OFF_M
+        && let Some(body) = agent.body.animated_mut()
+    {
+        body.pass_side_on(gap);
     }
 }
 

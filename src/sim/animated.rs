@@ -27,7 +27,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::body::{Body, Command, OpenSpace, Space, StepOutcome, is_free};
 use super::footing::Footing;
-use super::side_on::{Footprint, Gap, Phase, SideOn};
+use super::side_on::{Footprint, Gap, Phase, SideOn, Stance};
 use super::upper_body::UpperBodyState;
 use crate::anim::player::{Choice, Chooser, PlaybackMetrics, Player, PlayerParams, SwitchPoint};
 use crate::anim::policy::{Errors, Policy, Ranker, Strategy, Task};
@@ -591,13 +591,16 @@ impl Chooser for SideOnChooser<'_, '_> {
         let limits = self.look.anim.policy.params.warp;
         let space = &mut *self.look.space;
         let path = &mut *self.look.path;
-        // The room a root path keeps beyond what it must keep: the disc's KEEP_ROOM_M, the
-        // side-on capsule's KEEP_M along the heading `yaw`, or what there is at its start when
-        // less (never closer).
-        let mut room = |pts: &[DVec2], yaw: Option<f64>| -> f64 {
+        // The room a root path keeps, measured as each stance asks (see `Stance`).
+        let mut room = |pts: &[DVec2], stance: Stance| -> f64 {
             let Some(&first) = pts.first() else { return 0.0 };
-            match yaw {
-                None => {
+            match stance {
+                Stance::Fits(None) => space.clearance(first, radius + 1.0) - radius - super::side_on::KEEP_M,
+                Stance::Fits(Some(yaw)) => {
+                    let keep = super::side_on::KEEP_M;
+                    Footprint::side_on(Ground { x: first.x, y: first.y, yaw }).room(space, keep + 1.0) - keep
+                }
+                Stance::Walking => {
                     let want = radius + KEEP_ROOM_M;
                     let need = space.clearance(first, want + 1e-9).min(want) - 1e-6;
                     let far = want + 1.0;
@@ -607,7 +610,7 @@ impl Chooser for SideOnChooser<'_, '_> {
                     };
                     least - need
                 }
-                Some(yaw) => {
+                Stance::SideOn(yaw) => {
                     let keep = super::side_on::KEEP_M;
                     let fp = |p: DVec2| Footprint::side_on(Ground { x: p.x, y: p.y, yaw });
                     let need = fp(first).room(space, keep + 1e-9).min(keep) - 1e-6;
@@ -697,6 +700,13 @@ impl AnimatedBody {
         if !self.side_on.is_some_and(|m| m.active()) {
             self.side_on = Some(SideOn::new(gap, self.player.ground()));
         }
+    }
+
+    /// The gap of a side-on manoeuvre that gave up, once: the manoeuvre is then forgotten.
+    pub fn take_failed_side_on(&mut self) -> Option<Gap> {
+        let m = self.side_on.filter(|m| m.phase == Phase::Failed)?;
+        self.side_on = None;
+        Some(m.gap)
     }
 
     /// The side-on manoeuvre, running or the last one's end.
@@ -886,6 +896,14 @@ impl Body for AnimatedBody {
 
     fn passage_m(&self) -> f64 {
         2.0 * (self.radius + self.anim.clearance_m + PASSAGE_SLACK_M)
+    }
+
+    /// Side-on, when the database has side steps either way and turns on the spot.
+    fn narrowest_passage_m(&self) -> Option<f64> {
+        let kinds = &self.anim.db.kinds;
+        let has = |f: &dyn Fn(&crate::anim::db::IntervalKind) -> bool| kinds.iter().any(f);
+        (has(&|k| k.shuffle > 0) && has(&|k| k.shuffle < 0) && has(&|k| k.spot_turn != 0))
+            .then_some(super::side_on::SIDE_ON_PASSAGE_M)
     }
 
     fn footprint(&self) -> Footprint {

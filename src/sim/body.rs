@@ -142,6 +142,11 @@ pub trait Body {
     fn passage_m(&self) -> f64 {
         2.0 * self.radius()
     }
+    /// Width of the narrowest gap the body passes in its narrowest stance (a character side-on,
+    /// [`super::side_on`]), metres; `None` when it has no other stance than its walking one.
+    fn narrowest_passage_m(&self) -> Option<f64> {
+        None
+    }
     /// The body's extent in the plane now: its disc unless it stands otherwise (a character
     /// side-on, [`super::side_on`]).
     fn footprint(&self) -> Footprint {

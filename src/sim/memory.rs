@@ -22,6 +22,9 @@
 //! be held up where the grid shows a way. An agent held up in one place for long has its range
 //! sensor measure the way across the path just ahead, and gaps narrower than its body passes
 //! are remembered as obstacles too ([`Memory::close_gaps_ahead`]), so it plans round them.
+//! A body with a narrower stance (a character side-on) has the cells only that stance crosses
+//! marked [`NARROW`] instead of closed ([`Memory::with_narrowest`]): the way goes through them
+//! at a high cost, and the loop has the body pass such a gap in that stance.
 //!
 //! The first [`KEPT_M`] of the way are kept as a path between steps (topped up from the
 //! search's distances as the agent goes; beyond, the way is the search's best) and planned
@@ -39,7 +42,9 @@ mod replan;
 
 use glam::DVec2;
 
-use replan::{BAND, HARD, MARKED, Replanner, UNIT};
+use replan::{BAND, HARD, MARKED, NARROW, Replanner, UNIT};
+
+use super::side_on::Gap;
 
 /// Tuning of the memory. Every field documents its default.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -137,6 +142,9 @@ pub struct Aim {
     /// The waypoint lines the agent up for a narrow part of the way just ahead (a gap, a door,
     /// a corridor) that the way goes through ([`Memory::heading_with`]).
     pub through_gap: bool,
+    /// That narrow part as the range sensor measured it: its throat's middle, the way through
+    /// and the width across.
+    pub gap: Option<Gap>,
 }
 
 /// The remembered obstacles and the current path to the goal.
@@ -156,6 +164,16 @@ pub struct Memory {
     known: usize,
     /// The agent's radius, metres.
     radius: f64,
+    /// A cell whose centre lies this near a remembered point is closed to the walking disc,
+    /// metres ([`CLOSE_GIVE_CELLS`]).
+    closed_within: f64,
+    /// A cell whose centre lies this near a remembered point is closed to the body's narrowest
+    /// stance, metres (`closed_within` unless [`Memory::with_narrowest`]); between the two it is
+    /// [`NARROW`].
+    hard_within: f64,
+    /// Hits of neighbouring rays nearer each other than this are one surface, metres (none: the
+    /// disc's width).
+    join_m: Option<f64>,
     /// Cells a marked cell's inflation may reach, to a side.
     reach_cells: i64,
     /// How near (squared, metres², a little wide for rounding) a remembered point must come to
@@ -189,22 +207,43 @@ pub struct Memory {
 /// point's cell lies from the cells it may change.
 const CELLS_FLOOR: f64 = 1024.0;
 
-/// [`Memory::change_within`] for a disc of `radius` with a clearance `margin` (cells of side
-/// `c`): a point changes a cell of band `b < BANDS` only when it lies nearer its centre than
-/// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), and closes a cell not yet
-/// closed only nearer than the closing distance. Widened by a relative and an absolute
-/// nanometre, so rounding never leaves out a cell [`Memory::mark`]'s exact test would change.
-fn change_within(radius: f64, margin: f64, c: f64) -> Box<[f64; 256]> {
-    let closed_within = radius - CLOSE_GIVE_CELLS * c;
+/// [`Memory::change_within`] for a disc of `radius` with a clearance `margin`: a point changes
+/// a cell of band `b < BANDS` only when it lies nearer its centre than
+/// `radius + (BANDS − b)/BANDS · margin` (the deeper band it then gives), makes a cell neither
+/// closed nor [`NARROW`] narrow or closed only nearer than `closed_within`, and closes a narrow
+/// cell only nearer than `hard_within`. Widened by a relative and an absolute nanometre, so
+/// rounding never leaves out a cell [`Memory::mark`]'s exact test would change.
+fn change_within(radius: f64, margin: f64, closed_within: f64, hard_within: f64) -> Box<[f64; 256]> {
     Box::new(std::array::from_fn(|k| {
-        let (band, closed) = (k as u8 & BAND, k as u8 & HARD != 0);
+        let (band, closed, narrow) = (k as u8 & BAND, k as u8 & HARD != 0, k as u8 & NARROW != 0);
         let deeper = (band < BANDS).then(|| radius + f64::from(BANDS - band) * margin / f64::from(BANDS));
-        let close = (!closed).then_some(closed_within);
+        let close = match (closed, narrow) {
+            (true, _) => None,
+            (false, true) => Some(hard_within),
+            (false, false) => Some(closed_within),
+        };
         match deeper.into_iter().chain(close).fold(f64::NEG_INFINITY, f64::max) {
             lim if lim > 0.0 => (lim * (1.0 + 1e-9) + 1e-9).powi(2),
             _ => f64::NEG_INFINITY,
         }
     }))
+}
+
+/// Extra cost per cell side of a step into a [`NARROW`] cell (a side-on passage takes a stop,
+/// two pivots and side steps: the way goes round unless that is about this much longer).
+const NARROW_COST: f64 = 40.0;
+
+/// The closing bits a point `d` metres from a cell's centre gives it: [`HARD`] within
+/// `hard_within`, [`NARROW`] within `closed_within`.
+#[inline(always)]
+fn closing(d: f64, closed_within: f64, hard_within: f64) -> u8 {
+    if d < hard_within {
+        HARD
+    } else if d < closed_within {
+        NARROW
+    } else {
+        0
+    }
 }
 
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
@@ -236,8 +275,16 @@ impl Memory {
             cells: vec![0; nx * ny],
             known: 0,
             radius: radius.max(0.0),
+            closed_within: radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+            hard_within: radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+            join_m: None,
             reach_cells,
-            change_within: change_within(radius.max(0.0), params.margin_m.max(0.0), c),
+            change_within: change_within(
+                radius.max(0.0),
+                params.margin_m.max(0.0),
+                radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+                radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+            ),
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
@@ -247,8 +294,41 @@ impl Memory {
             failed: false,
             stale: true,
             plans: 0,
-            planner: Replanner::new(replan::step_costs(params.margin_cost, BANDS)),
+            planner: Replanner::new(replan::step_costs(params.margin_cost, BANDS, NARROW_COST)),
         }
+    }
+
+    /// The memory of a body whose narrowest stance passes gaps down to `passage_m` wide (a
+    /// character side-on): cells the walking disc may not cross but that stance may are
+    /// [`NARROW`] instead of closed, and cost [`NARROW_COST`] more per cell side, so the way
+    /// goes through such a gap only when going round is much longer. A gap a cell wider than
+    /// `passage_m` always keeps a cell centre open to it, however the grid falls. Only hits of
+    /// neighbouring rays nearer each other than `passage_m` are taken as one surface.
+    pub fn with_narrowest(mut self, passage_m: f64) -> Memory {
+        let c = self.params.cell_m;
+        self.hard_within = (0.5 * (passage_m - c)).clamp(0.0, self.closed_within.max(0.0));
+        self.join_m = Some(passage_m.max(0.0));
+        self.change_within =
+            change_within(self.radius, self.params.margin_m.max(0.0), self.closed_within, self.hard_within);
+        self
+    }
+
+    /// Whether the way ahead from the path's start to `within_m` along it crosses a [`NARROW`] cell.
+    pub fn narrow_ahead(&self, within_m: f64) -> bool {
+        let mut along = 0.0;
+        for (k, &p) in self.path.iter().enumerate() {
+            if k > 0 {
+                along += self.path[k - 1].distance(p);
+            }
+            if along > within_m {
+                break;
+            }
+            let (i, j) = self.cell_of(p);
+            if self.index(i, j).is_some_and(|c| self.cells[c] & NARROW != 0 && self.cells[c] & HARD == 0) {
+                return true;
+            }
+        }
+        false
     }
 
     fn cell_of(&self, p: DVec2) -> (i64, i64) {
@@ -309,7 +389,7 @@ impl Memory {
         }
         let c = self.params.cell_m;
         let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
-        let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        let (closed_within, hard_within) = (self.closed_within, self.hard_within);
         // Most cells around a surface seen again are already as deep as this point makes
         // them: a cell can only change within the distance its state still allows
         // (`self.change_within`, squared, a little wide for rounding), so the exact band is
@@ -369,7 +449,7 @@ impl Memory {
                 // clamp of a NaN floor gives).
                 let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
                 let band = BANDS - beyond.min(BANDS - 1);
-                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+                let new = (old & !BAND) | (old & BAND).max(band) | closing(d, closed_within, hard_within);
                 if new != old {
                     *cell = new;
                     planner.changed(row + ii as usize);
@@ -418,7 +498,7 @@ impl Memory {
             let pa = from + fan.rays[k] * (a + radius);
             let pb = from + fan.rays[(k + 1) % n] * (b + radius);
             let len = pa.distance(pb);
-            if len >= 2.0 * radius {
+            if len >= self.join_m.unwrap_or(2.0 * radius) {
                 continue;
             }
             let steps = (len / (0.5 * c)).ceil() as usize;
@@ -461,7 +541,7 @@ impl Memory {
             }
         }
         let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
-        let closed_within = radius - CLOSE_GIVE_CELLS * c;
+        let (closed_within, hard_within) = (self.closed_within, self.hard_within);
         let widest = self.change_within[0];
         let (ox, oy) = (self.origin.x, self.origin.y);
         let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
@@ -512,7 +592,7 @@ impl Memory {
                 }
                 let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
                 let band = BANDS - beyond.min(BANDS - 1);
-                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
+                let new = (old & !BAND) | (old & BAND).max(band) | closing(d, closed_within, hard_within);
                 if new != old {
                     cells[n] = new;
                     planner.changed(n);
@@ -569,18 +649,25 @@ impl Memory {
         }
         // A narrow part of the way ahead (a door, a corridor) is entered along its own line;
         // elsewhere the waypoint is the farthest one in sight.
-        let (waypoint, through_gap) = match self.line_up(from, span, &reach) {
-            Some(p) => (p, true),
-            None => (self.farthest_waypoint(from, sight, &reach), false),
+        let (waypoint, gap) = match self.line_up(from, span, &reach) {
+            Some((p, gap)) => (p, Some(gap)),
+            None => (self.farthest_waypoint(from, sight, &reach), None),
         };
+        let through_gap = gap.is_some();
         let remaining: f64 =
             from.distance(self.path[0]) + self.path.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>() + self.tail_m;
         let to = waypoint - from;
         if to.length() < 1e-9 {
             let to = self.goal - from;
-            return Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap });
+            return Some(Aim {
+                heading: to.to_angle(),
+                remaining_m: remaining,
+                waypoint_m: to.length(),
+                through_gap,
+                gap,
+            });
         }
-        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap })
+        Some(Aim { heading: to.to_angle(), remaining_m: remaining, waypoint_m: to.length(), through_gap, gap })
     }
 
     /// The waypoint: the farthest point of the path within reach that the disc can go straight
@@ -645,7 +732,7 @@ impl Memory {
         from: DVec2,
         mut span: impl FnMut(DVec2, &[DVec2], &mut [f64]),
         reach: &impl Fn(f64) -> f64,
-    ) -> Option<DVec2> {
+    ) -> Option<(DVec2, Gap)> {
         let mut along = from.distance(self.path[0]);
         let mut entry = None;
         for (k, &p) in self.path.iter().enumerate() {
@@ -719,7 +806,7 @@ impl Memory {
                 throat = Some((w, m, p, across));
             }
         }
-        let (_, centre, at, across) = throat?;
+        let (width, centre, at, across) = throat?;
         // The gap's line is square to the way across it, pointing the way the path goes.
         let square = if across.perp().dot(dir) >= 0.0 { across.perp() } else { -across.perp() };
         let line = match measure(at + square * GAP_AXIS_M) {
@@ -730,7 +817,8 @@ impl Memory {
         };
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
         // The agent may stand in the inflation of the gap's posts.
-        self.sight_depth(from, target, &reach).map(|_| target)
+        // The gap itself is crossed square to its throat (the line beyond may bend away).
+        self.sight_depth(from, target, &reach).map(|_| (target, Gap { centre, through: square, width }))
     }
 
     /// [`Memory::line_depth`] for an agent at `from` that may stand in or beside the inflation
@@ -792,15 +880,41 @@ impl Memory {
             }
             let next = self.path.get(k + 1).copied().unwrap_or(self.goal);
             let dir = (next - self.path[k.saturating_sub(1)]).normalize_or_zero();
-            if dir != DVec2::ZERO && width(p, dir.perp()) < passage {
-                close.push(p);
+            if dir != DVec2::ZERO {
+                let w = width(p, dir.perp());
+                if w < passage {
+                    close.push((p, w));
+                }
             }
         }
-        for &p in &close {
-            self.mark(p);
+        for &(p, w) in &close {
+            if self.join_m.is_some_and(|narrowest| w < narrowest) {
+                self.seal(p);
+            } else {
+                self.mark(p);
+            }
         }
         self.stale |= !close.is_empty();
         !close.is_empty()
+    }
+
+    /// Remembers an obstacle at `p` ([`Memory::mark`]) and closes every cell the walking disc
+    /// may not cross for it, even to the body's narrowest stance: a gap measured too narrow for
+    /// that stance as well.
+    pub fn seal(&mut self, p: DVec2) {
+        self.mark(p);
+        let (i, j) = self.cell_of(p);
+        let reach = (self.closed_within.max(0.0) / self.params.cell_m).ceil() as i64 + 1;
+        for jj in j - reach..=j + reach {
+            for ii in i - reach..=i + reach {
+                let Some(k) = self.index(ii, jj) else { continue };
+                if self.cells[k] & HARD == 0 && self.centre(ii, jj).distance(p) < self.closed_within {
+                    self.cells[k] |= HARD;
+                    self.planner.changed(k);
+                    self.stale = true;
+                }
+            }
+        }
     }
 
     /// The deepest band of the margin the straight line from `a` to `b` crosses, or `None`
@@ -962,7 +1076,8 @@ impl Memory {
 
     /// Extra cost per metre of crossing cell `k` (its depth in the margin).
     fn margin_cost(&self, k: usize) -> f32 {
-        self.params.margin_cost as f32 * f32::from(self.cells[k] & BAND) / f32::from(BANDS)
+        let narrow = if self.cells[k] & NARROW != 0 { NARROW_COST as f32 } else { 0.0 };
+        self.params.margin_cost as f32 * f32::from(self.cells[k] & BAND) / f32::from(BANDS) + narrow
     }
 
     /// Cost of following `path` from `from` under what is remembered now (as the search counts

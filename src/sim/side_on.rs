@@ -49,15 +49,49 @@ const LEAD_COS: f64 = 0.94;
 /// Most switch points the manoeuvre takes before it gives up.
 const MAX_SWITCHES: u32 = 80;
 
+/// Standing where the line to the gap's middle leaves the way through it by more than this
+/// (cosine, 14°), the character first faces the gap and side-steps onto the way (or steps back
+/// from the gap) until it leaves it by no more than [`ALIGN_DONE_COS`].
+const ALIGN_COS: f64 = 0.97;
+
+/// See [`ALIGN_COS`] (10°).
+const ALIGN_DONE_COS: f64 = 0.985;
+
+/// Side steps bring the character this near the way through the gap's middle, metres (half a
+/// side step); steps back then make the slant small enough.
+const ALIGN_M: f64 = 0.15;
+
+/// Depth of the gap the side-on capsule's slanted passage is checked against, metres (a wall's).
+const DEPTH_M: f64 = 0.2;
+
+/// How the room of a root path is measured ([`SideOn::choose`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stance {
+    /// The walking disc's room beyond what it must keep, or beyond what it has at the path's
+    /// start when less (never closer).
+    Walking,
+    /// The side-on capsule's room beyond [`KEEP_M`] along the heading given, or beyond what it
+    /// has at the path's start when less.
+    SideOn(f64),
+    /// The room at the path's start beyond [`KEEP_M`] of the walking disc, or of the side-on
+    /// capsule along the heading given (below zero: it does not fit there).
+    Fits(Option<f64>),
+}
+
 /// Where the manoeuvre stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
     /// Coming to a stand.
     Stop,
+    /// Facing the gap, side-stepping onto the way through its middle (when the line from where
+    /// it stands to the middle is too far from that way for the side steps to lead through).
+    Align,
     /// Pivoting side-on.
     Turn,
     /// Side-stepping through.
     Slide,
+    /// Blocked in the gap: side-stepping back out the way it came, then given up.
+    Retreat,
     /// Pivoting back to face the way out.
     TurnBack,
     /// Through and facing the way on.
@@ -81,6 +115,8 @@ pub struct SideOn {
     pub sideways: bool,
     /// The pivot to go on with once standing.
     resume: Phase,
+    /// No room to step back from the gap.
+    cornered: bool,
     switches: u32,
 }
 
@@ -92,7 +128,16 @@ impl SideOn {
         let right = wrap_angle(face - std::f64::consts::FRAC_PI_2 - g.yaw).abs();
         let left = wrap_angle(face + std::f64::consts::FRAC_PI_2 - g.yaw).abs();
         let side = if right <= left { 1 } else { -1 };
-        SideOn { gap, phase: Phase::Stop, side, travel: gap.through, sideways: false, resume: Phase::Turn, switches: 0 }
+        SideOn {
+            gap,
+            phase: Phase::Stop,
+            side,
+            travel: gap.through,
+            sideways: false,
+            resume: Phase::Turn,
+            cornered: false,
+            switches: 0,
+        }
     }
 
     /// True while the manoeuvre drives the body.
@@ -105,21 +150,21 @@ impl SideOn {
         wrap_angle(travel.to_angle() - f64::from(self.side) * std::f64::consts::FRAC_PI_2)
     }
 
-    /// The choice at `at`, with `room(path, side_on)` the room a root path keeps (for the disc,
-    /// or for the side-on capsule along it) and `path` scratch; `None` when the manoeuvre is
+    /// The choice at `at`, with `room(path, stance)` the room a root path keeps (see
+    /// [`Stance`]) and `path` scratch; `None` when the manoeuvre is
     /// over (the phase says how) and the body's own chooser takes over.
     pub fn choose(
         &mut self,
         db: &Database,
         at: &SwitchPoint,
         path: &mut Vec<DVec2>,
-        room: &mut dyn FnMut(&[DVec2], Option<f64>) -> f64,
+        room: &mut dyn FnMut(&[DVec2], Stance) -> f64,
         reach: f64,
         limits: &crate::anim::warp::WarpLimits,
     ) -> Option<Choice> {
         self.switches += 1;
         if self.switches > MAX_SWITCHES && self.active() {
-            self.phase = if self.sideways { Phase::Slide } else { Phase::Failed };
+            self.phase = if self.sideways { Phase::Retreat } else { Phase::Failed };
         }
         let cands = &db.candidates[at.ending];
         let p = DVec2::new(at.ground.x, at.ground.y);
@@ -142,7 +187,7 @@ impl SideOn {
                         ok(a) && (k.stops || (k.in_place && k.spot_turn == 0)) && {
                             path.clear();
                             at.path(db, Choice::from(a), path);
-                            room(path, None) >= 0.0
+                            room(path, Stance::Walking) >= 0.0
                         }
                     });
                     return match pick {
@@ -153,10 +198,26 @@ impl SideOn {
                         }
                     };
                 }
-                Phase::Turn | Phase::TurnBack => {
+                Phase::Turn | Phase::TurnBack | Phase::Align => {
                     let back = self.phase == Phase::TurnBack;
+                    // Aside from the way through the gap's middle (left of it: positive), and before it.
+                    let rel = p - self.gap.centre;
+                    let (aside, before) = (self.gap.through.perp_dot(rel), -self.gap.through.dot(rel));
+                    let slant = if before > 0.0 { before / before.hypot(aside) } else { 0.0 };
+                    if self.phase == Phase::Turn
+                        && standing
+                        && slant < ALIGN_COS
+                        && (aside.abs() > ALIGN_M || !self.cornered)
+                    {
+                        self.phase = Phase::Align;
+                    }
+                    let align = self.phase == Phase::Align;
+                    if align && standing && slant >= ALIGN_DONE_COS {
+                        self.phase = Phase::Turn;
+                        continue;
+                    }
                     let want = |q: DVec2| {
-                        if back {
+                        if back || align {
                             self.gap.through.to_angle()
                         } else {
                             // The side leads through the gap's middle from where it stands.
@@ -176,12 +237,48 @@ impl SideOn {
                     let lead = DVec2::from_angle(at.ground.yaw + f64::from(self.side) * std::f64::consts::FRAC_PI_2);
                     let axis = p + DVec2::from_angle(at.ground.yaw) * SIDE_ON_FORWARD_M;
                     let off = lead.perp_dot(self.gap.centre - axis).abs();
-                    let slack = 0.5 * (self.gap.width - 2.0 * SIDE_ON_RADIUS_M) - KEEP_M - 0.01;
-                    let lined_up = if back {
+                    // The capsule's strip, slanted through a gap of some depth, takes more of it.
+                    let cos = lead.dot(self.gap.through).clamp(LEAD_COS, 1.0);
+                    let tan = (1.0 - cos * cos).sqrt() / cos;
+                    let taken = 2.0 * SIDE_ON_RADIUS_M / cos + DEPTH_M * tan;
+                    let slack = 0.5 * (self.gap.width - taken) - KEEP_M - 0.01;
+                    let lined_up = if back || align {
                         wrap_angle(want(p) - at.ground.yaw).abs() <= TURN_TOL
                     } else {
-                        off <= slack && lead.dot(self.gap.through) >= LEAD_COS
+                        off <= slack
+                            && lead.dot(self.gap.through) >= LEAD_COS
+                            && room(&[p], Stance::Fits(Some(at.ground.yaw))) >= 0.0
                     };
+                    // Mid-step: the step's other foot closes first.
+                    let mid = db.kinds[at.ending].shuffle != 0 && !standing;
+                    if align && lined_up && (standing || mid) {
+                        // Facing the gap: a side step toward the way through its middle, or a
+                        // step back from the gap once near that way.
+                        let toward: i8 = if aside.abs() <= ALIGN_M {
+                            2
+                        } else if aside < 0.0 {
+                            1
+                        } else {
+                            -1
+                        };
+                        let pick = (0..cands.len()).find(|&a| {
+                            let iv = cands[a].interval;
+                            ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == toward }
+                        });
+                        let clear = pick.is_some_and(|a| {
+                            path.clear();
+                            at.path(db, Choice::from(a), path);
+                            mid || room(path, Stance::Walking) >= 0.0
+                        });
+                        let Some(a) = pick.filter(|_| clear) else {
+                            // No room behind: side-on from here; none beside: given up.
+                            self.phase = if toward == 2 { Phase::Turn } else { Phase::Failed };
+                            self.cornered |= toward == 2;
+                            continue;
+                        };
+                        self.sideways = false;
+                        return Some(Choice::from(a));
+                    }
                     if standing && lined_up {
                         if back {
                             self.phase = Phase::Done;
@@ -217,7 +314,7 @@ impl SideOn {
                         path.clear();
                         let then = at.path(db, choice, path);
                         let err = wrap_angle(want(DVec2::new(then.ground.x, then.ground.y)) - then.ground.yaw).abs();
-                        if room(path, None) >= 0.0 && best.is_none_or(|(e, _)| err < e - 1e-9) {
+                        if room(path, Stance::Walking) >= 0.0 && best.is_none_or(|(e, _)| err < e - 1e-9) {
                             best = Some((err, choice));
                         }
                     }
@@ -232,34 +329,45 @@ impl SideOn {
                         }
                     };
                 }
-                Phase::Slide => {
+                Phase::Slide | Phase::Retreat => {
+                    let back = self.phase == Phase::Retreat;
+                    let side = if back { -self.side } else { self.side };
                     let past = (p - self.gap.centre).dot(self.travel);
                     // Mid-step: the step's other foot closes.
-                    let mid = db.kinds[at.ending].shuffle == self.side && !standing;
-                    if past > PAST_M && !mid {
+                    let mid = db.kinds[at.ending].shuffle.abs() == 1 && !standing;
+                    // Out of the gap where the walking disc fits again.
+                    let out = !mid && past.abs() > PAST_M && room(&[p], Stance::Fits(None)) >= 0.0;
+                    if out && !back && past > 0.0 {
                         self.phase = Phase::TurnBack;
+                        continue;
+                    }
+                    if out && back && past < 0.0 {
+                        // Out of the gap again, where the walking disc has room.
+                        self.phase = Phase::Failed;
                         continue;
                     }
                     let pick = (0..cands.len()).find(|&a| {
                         let iv = cands[a].interval;
-                        ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == self.side }
+                        ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == side }
                     });
-                    let Some(a) = pick else {
-                        self.phase = if mid { Phase::Slide } else { Phase::Failed };
-                        if mid {
-                            return Some(Choice::from(0));
+                    let clear = pick.is_some_and(|a| {
+                        path.clear();
+                        at.path(db, Choice::from(a), path);
+                        mid || room(path, Stance::SideOn(at.ground.yaw)) >= 0.0
+                    });
+                    match pick.filter(|_| clear) {
+                        Some(a) => {
+                            self.sideways = true;
+                            return Some(Choice::from(a));
                         }
-                        continue;
-                    };
-                    path.clear();
-                    at.path(db, Choice::from(a), path);
-                    if !mid && room(path, Some(at.ground.yaw)) < 0.0 {
-                        // Blocked: stand where it is.
-                        self.phase = Phase::Failed;
-                        continue;
+                        // Blocked going on: back out the way it came.
+                        None if !back => {
+                            self.phase = Phase::Retreat;
+                            continue;
+                        }
+                        // Blocked both ways: it stands side-on where it is.
+                        None => return Some(Choice::from(0)),
                     }
-                    self.sideways = true;
-                    return Some(Choice::from(a));
                 }
             }
         }

@@ -27,6 +27,13 @@ pub(super) const HARD: u8 = 0x20;
 /// A cell's bits holding its band of the margin.
 pub(super) const BAND: u8 = 0x03;
 
+/// A cell's bit: only the body's narrowest stance crosses it (a character side-on): it lies
+/// within the closing distance of the body's walking disc but not of its narrowest stance.
+pub(super) const NARROW: u8 = 0x04;
+
+/// A cell's bits that give the cost of a step into it.
+pub(super) const COST: u8 = BAND | NARROW;
+
 /// Cost of a straight step into a cell outside the margin (a cell side).
 pub(super) const UNIT: u32 = 256;
 
@@ -92,10 +99,13 @@ impl Moves<'_> {
 }
 
 /// The costs of a straight and of a diagonal step into a cell of each band, for a clearance
-/// margin costing `margin_cost` extra per cell side in its innermost band (`bands` bands).
-pub(super) fn step_costs(margin_cost: f64, bands: u8) -> [[u32; 2]; BAND as usize + 1] {
-    std::array::from_fn(|band| {
-        let extra = 1.0 + margin_cost.max(0.0) * band.min(usize::from(bands)) as f64 / f64::from(bands.max(1));
+/// margin costing `margin_cost` extra per cell side in its innermost band (`bands` bands), and
+/// `narrow_cost` more into a [`NARROW`] cell; indexed by the cell's [`COST`] bits.
+pub(super) fn step_costs(margin_cost: f64, bands: u8, narrow_cost: f64) -> [[u32; 2]; COST as usize + 1] {
+    std::array::from_fn(|k| {
+        let band = k & usize::from(BAND);
+        let narrow = if k & usize::from(NARROW) != 0 { narrow_cost.max(0.0) } else { 0.0 };
+        let extra = 1.0 + margin_cost.max(0.0) * band.min(usize::from(bands)) as f64 / f64::from(bands.max(1)) + narrow;
         let cost = |base: u32| (f64::from(base) * extra).round().min(f64::from(INF / 4)) as u32;
         [cost(UNIT), cost(DIAGONAL)]
     })
@@ -232,7 +242,7 @@ pub(super) struct Replanner {
     start: (i64, i64),
     /// See [`Moves::escape`].
     escape: i64,
-    costs: [[u32; 2]; BAND as usize + 1],
+    costs: [[u32; 2]; COST as usize + 1],
     /// `!g` of each cell (zero: no way known).
     g: Vec<u32>,
     /// `!rhs` of each cell.
@@ -255,7 +265,7 @@ pub(super) struct Replanner {
 
 impl Replanner {
     /// A planner whose steps cost `costs` (see [`step_costs`]).
-    pub fn new(costs: [[u32; 2]; BAND as usize + 1]) -> Replanner {
+    pub fn new(costs: [[u32; 2]; COST as usize + 1]) -> Replanner {
         Replanner { costs, ..Replanner::default() }
     }
 
@@ -374,7 +384,7 @@ impl Replanner {
     #[inline(always)]
     fn edge(&self, moves: &Moves, x: i64, y: i64, step: (i64, i64, bool)) -> Option<(usize, u32)> {
         let m = moves.step(x, y, step)?;
-        Some((m, self.costs[usize::from(moves.cells[m] & BAND)][usize::from(step.2)]))
+        Some((m, self.costs[usize::from(moves.cells[m] & COST)][usize::from(step.2)]))
     }
 
     /// The best of cell `k`'s moves: cost plus the entered cell's `g`.
@@ -525,7 +535,7 @@ impl Replanner {
                 if !moves.enterable(k, x, y) {
                     continue;
                 }
-                let into = self.costs[usize::from(cells[k] & BAND)];
+                let into = self.costs[usize::from(cells[k] & COST)];
                 for &(dx, dy, diagonal) in &STEPS {
                     let (px, py) = (x - dx, y - dy);
                     if px < 0 || py < 0 || px >= self.nx as i64 || py >= self.ny as i64 {
@@ -545,7 +555,7 @@ impl Replanner {
                 // The way known is gone: every cell whose best move entered this one looks
                 // again, and so does this one.
                 self.set_g(k, INF);
-                let into = self.costs[usize::from(cells[k] & BAND)];
+                let into = self.costs[usize::from(cells[k] & COST)];
                 let enterable = moves.enterable(k, x, y);
                 for &(dx, dy, diagonal) in &STEPS {
                     let (px, py) = (x - dx, y - dy);
@@ -676,7 +686,7 @@ mod tests {
     /// The from-scratch search: Dijkstra from `from` over the same moves, with the agent at
     /// `agent`.
     fn fresh(cells: &[u8], nx: usize, ny: usize, goal: usize, agent: (i64, i64), from: (i64, i64)) -> Option<u32> {
-        let costs = step_costs(4.0, 3);
+        let costs = step_costs(4.0, 3, 0.0);
         let moves = Moves { cells, nx: nx as i64, ny: ny as i64, goal, start: agent, escape: 2 };
         let mut dist = vec![u64::MAX; nx * ny];
         let first = from.1 as usize * nx + from.0 as usize;
@@ -693,7 +703,7 @@ mod tests {
             let (x, y) = ((k % nx) as i64, (k / nx) as i64);
             for &step in &STEPS {
                 if let Some(m) = moves.step(x, y, step) {
-                    let nd = d + u64::from(costs[usize::from(cells[m] & BAND)][usize::from(step.2)]);
+                    let nd = d + u64::from(costs[usize::from(cells[m] & COST)][usize::from(step.2)]);
                     if nd < dist[m] {
                         dist[m] = nd;
                         open.push(Reverse((nd, m)));
@@ -744,7 +754,7 @@ mod tests {
                 .map(|&s| (s, moves.step(x, y, s)))
                 .find(|&(_, m)| m == Some(w[1]))
                 .expect("the way takes allowed steps");
-            total += p.costs[usize::from(cells[w[1]] & BAND)][usize::from(step.2)];
+            total += p.costs[usize::from(cells[w[1]] & COST)][usize::from(step.2)];
         }
         Some(total)
     }
@@ -787,7 +797,7 @@ mod tests {
             let mut cells = vec![0u8; nx * ny];
             let mut goal = at(goal, nx, ny);
             let mut agent = at(start, nx, ny);
-            let mut p = Replanner::new(step_costs(4.0, 3));
+            let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
             p.begin(nx, ny, goal, agent, 2);
             for op in ops {
                 match op {
@@ -836,7 +846,7 @@ mod tests {
             }
         }
         let goal = (29, 4);
-        let mut p = Replanner::new(step_costs(4.0, 3));
+        let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
         p.begin(nx, ny, goal, (2, 5), 2);
         let rows = |p: &Replanner, from: (i64, i64), heading| {
             let way = p.descend(&cells, from, usize::MAX - 1, heading);
@@ -852,7 +862,7 @@ mod tests {
         }
         // In the open, the way's straight and diagonal steps come in runs: it turns at most
         // twice, not at every cell where two steps tie.
-        let mut open = Replanner::new(step_costs(4.0, 3));
+        let mut open = Replanner::new(step_costs(4.0, 3, 0.0));
         let cells = vec![0u8; nx * ny];
         open.begin(nx, ny, (27, 1), (1, 8), 2);
         for (from, heading) in [((1, 8), None), ((1, 8), Some((1, 0))), ((3, 2), Some((0, 1)))] {
@@ -875,7 +885,7 @@ mod tests {
         // afresh after each.
         let (nx, ny) = (400usize, 60usize);
         let mut cells = vec![0u8; nx * ny];
-        let mut p = Replanner::new(step_costs(4.0, 3));
+        let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
         let goal = (390, 30);
         p.begin(nx, ny, goal, (5, 30), 2);
         let (mut repaired, mut afresh) = (0, 0);
@@ -889,7 +899,7 @@ mod tests {
             let before = p.expanded;
             let d = p.settle(&cells, agent, agent, usize::MAX);
             repaired += p.expanded - before;
-            let mut q = Replanner::new(step_costs(4.0, 3));
+            let mut q = Replanner::new(step_costs(4.0, 3, 0.0));
             q.begin(nx, ny, goal, agent, 2);
             assert_eq!(q.settle(&cells, agent, agent, usize::MAX), d);
             afresh += q.expanded;
