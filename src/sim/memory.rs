@@ -690,7 +690,7 @@ impl Memory {
         // its outer bands. Looked for from the far end: the first roomy point settles it.
         let (mut clear, mut roomy, mut kept) = (None, None, None);
         for &p in self.path[..reach].iter().rev() {
-            let Some(depth) = self.sight_depth(from, p, bare) else { continue };
+            let Some(depth) = self.sight_depth(from, p, bare, HARD | NARROW) else { continue };
             clear.get_or_insert(p);
             if depth != 0 && (depth >= BANDS || kept.is_some()) {
                 continue;
@@ -818,7 +818,8 @@ impl Memory {
         let target = centre + line * (line.dot(from - centre) + PURSUIT_M);
         // The agent may stand in the inflation of the gap's posts.
         // The gap itself is crossed square to its throat (the line beyond may bend away).
-        self.sight_depth(from, target, &reach).map(|_| (target, Gap { centre, through: square, width }))
+        // A gap open only to the body's narrowest stance is lined up for all the same.
+        self.sight_depth(from, target, &reach, HARD).map(|_| (target, Gap { centre, through: square, width }))
     }
 
     /// [`Memory::line_depth`] for an agent at `from` that may stand in or beside the inflation
@@ -826,17 +827,18 @@ impl Memory {
     /// where it stands): a line that crosses closed cells only there, never a remembered
     /// obstacle, and that the disc, as its sensor shows it now (`reach`, as for
     /// [`Memory::heading_with`]), goes straight along to `to`, counts as clear, deep in the
-    /// margin.
-    fn sight_depth(&self, from: DVec2, to: DVec2, reach: &impl Fn(f64) -> f64) -> Option<u8> {
-        self.line_depth(from, to).or_else(|| {
+    /// margin. A cell is closed to the line when it has any of the bits `closed` ([`HARD`], and
+    /// [`NARROW`] for a line the walking disc follows).
+    fn sight_depth(&self, from: DVec2, to: DVec2, reach: &impl Fn(f64) -> f64, closed: u8) -> Option<u8> {
+        self.line_depth(from, to, closed).or_else(|| {
             let d = to - from;
-            (self.escapes(from, to) && reach(d.to_angle()) >= d.length()).then_some(BANDS)
+            (self.escapes(from, to, closed) && reach(d.to_angle()) >= d.length()).then_some(BANDS)
         })
     }
 
     /// Whether the straight line from `a` to `b` crosses closed cells only within the search's
     /// escape reach of `a`'s cell and none where an obstacle was seen.
-    fn escapes(&self, a: DVec2, b: DVec2) -> bool {
+    fn escapes(&self, a: DVec2, b: DVec2, closed: u8) -> bool {
         let step = 0.5 * self.params.cell_m;
         let n = (a.distance(b) / step).ceil().max(1.0) as usize;
         let here = self.cell_of(a);
@@ -845,7 +847,7 @@ impl Memory {
             let Some(c) = self.index(i, j) else { return true };
             let cell = self.cells[c];
             let near = (i - here.0).abs().max((j - here.1).abs()) <= self.reach_cells;
-            cell & HARD == 0 || (near && cell & MARKED == 0)
+            cell & closed == 0 || (near && cell & MARKED == 0)
         })
     }
 
@@ -920,7 +922,7 @@ impl Memory {
     /// The deepest band of the margin the straight line from `a` to `b` crosses, or `None`
     /// when it crosses a closed cell (the cell the agent stands in does not count, nor, for
     /// the margin, cells within the agent's first stride).
-    fn line_depth(&self, a: DVec2, b: DVec2) -> Option<u8> {
+    fn line_depth(&self, a: DVec2, b: DVec2, closed: u8) -> Option<u8> {
         let step = 0.5 * self.params.cell_m;
         let n = (a.distance(b) / step).ceil().max(1.0) as usize;
         let here = self.cell_of(a);
@@ -932,7 +934,7 @@ impl Memory {
                 continue;
             }
             let Some(c) = self.index(i, j) else { continue };
-            if self.cells[c] & HARD != 0 {
+            if self.cells[c] & closed != 0 {
                 return None;
             }
             if q.distance(a) > STRIDE_M {
