@@ -163,7 +163,7 @@ pub struct Memory {
     /// zero for a cell no point can change.
     change_within: Box<[f64; 256]>,
     /// The cells a point may change, by where it lies in its cell.
-    stamps: Stamps,
+    stamps: std::sync::Arc<Stamps>,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
@@ -264,6 +264,19 @@ impl Stamps {
         Stamps { rows, start }
     }
 
+    /// [`Stamps::new`], made once for each distance and shared (every agent of a run has the
+    /// same).
+    fn shared(spread: f64) -> std::sync::Arc<Stamps> {
+        static MADE: std::sync::Mutex<Vec<(u64, std::sync::Arc<Stamps>)>> = std::sync::Mutex::new(Vec::new());
+        let mut made = MADE.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, stamps)) = made.iter().find(|(bits, _)| *bits == spread.to_bits()) {
+            return stamps.clone();
+        }
+        let stamps = std::sync::Arc::new(Stamps::new(spread));
+        made.push((spread.to_bits(), stamps.clone()));
+        stamps
+    }
+
     /// The rows for a point `(u, v)` cells right of and above its cell's centre (each about
     /// in `[0, 1)`).
     #[inline]
@@ -305,7 +318,7 @@ impl Memory {
             radius: radius.max(0.0),
             reach_cells,
             change_within: change_within(radius.max(0.0), params.margin_m.max(0.0), c),
-            stamps: Stamps::new(change_within(radius.max(0.0), params.margin_m.max(0.0), c)[0].max(0.0).sqrt() / c),
+            stamps: Stamps::shared(change_within(radius.max(0.0), params.margin_m.max(0.0), c)[0].max(0.0).sqrt() / c),
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),
