@@ -562,14 +562,36 @@ impl Memory {
         let along = last - first;
         let along2 = along.dot(along);
         let last_s = steps - 1;
+        let spread_m = spread * c;
         let Memory { cells, planner, change_within, nx, .. } = self;
         for jj in rows.0..=rows.1 {
             // The same centres as `self.centre`.
             let cy = oy + (jj as f64 + 0.5) * c;
-            for ii in cols.0..=cols.1 {
+            // Only the part of the segment within the widest distance of the row's line may
+            // come that near a centre of the row, so only the columns within that distance of
+            // the part are visited.
+            let (t0, t1) = if along.y != 0.0 {
+                let (a, b) = ((cy - spread_m - first.y) / along.y, (cy + spread_m - first.y) / along.y);
+                (a.min(b).max(0.0), a.max(b).min(1.0))
+            } else if (first.y - cy).abs() <= spread_m {
+                (0.0, 1.0)
+            } else {
+                continue;
+            };
+            if !(t0 <= t1) {
+                continue;
+            }
+            let (xa, xb) = (first.x + along.x * t0, first.x + along.x * t1);
+            let lo = cells_floor((xa.min(xb) - ox) / c - 0.5 - spread).max(cols.0);
+            let hi = (cells_floor((xa.max(xb) - ox) / c - 0.5 + spread) + 1).min(cols.1);
+            for ii in lo..=hi {
                 let n = jj as usize * *nx + ii as usize;
                 let old = cells[n];
                 let within = change_within[usize::from(old)];
+                // No point changes a cell that is as deep as it gets.
+                if within < 0.0 {
+                    continue;
+                }
                 let centre = DVec2::new(ox + (ii as f64 + 0.5) * c, cy);
                 // The nearest point of the segment from the first point to the last: no point
                 // is nearer (less rounding, far below the nanometres `within` leaves).
