@@ -111,28 +111,52 @@ fn octile(a: (i64, i64), b: (i64, i64)) -> u64 {
 /// A queued cell: its key, then its index (the order of the queue).
 type Entry = (u64, u64, u32);
 
-/// The queue of inconsistent cells: a binary heap of [`Entry`]s that knows where each cell
-/// is, so a cell is queued once and its key changed or taken out in place.
+/// Bits of a packed entry below the key's first part: the key's second part (below 2³³, see
+/// [`Replanner::key`]) and the cell's index (below 2³¹).
+const INDEX_BITS: u32 = 31;
+
+/// An [`Entry`] in one number that orders as the entry does: the key's first part, its second,
+/// the cell's index.
+#[inline(always)]
+fn pack((k1, k2, k): Entry) -> u128 {
+    debug_assert!(k2 < 1 << 33 && k < 1 << INDEX_BITS);
+    (u128::from(k1) << 64) | (u128::from(k2) << INDEX_BITS) | u128::from(k)
+}
+
+/// The [`Entry`] of a [`pack`]ed one.
+#[inline(always)]
+fn unpack(e: u128) -> Entry {
+    ((e >> 64) as u64, ((e as u64) >> INDEX_BITS), (e as u32) & ((1 << INDEX_BITS) - 1))
+}
+
+/// Children of each place in the queue's heap.
+const ARITY: usize = 4;
+
+/// The queue of inconsistent cells: a heap of [`pack`]ed entries, each place's [`ARITY`]
+/// children after it, that knows where each cell is, so a cell is queued once and its key
+/// changed or taken out in place. Keys are unique (they end in the cell's index), so the first
+/// entry is whatever the heap's shape.
 #[derive(Debug, Clone, Default)]
 struct Queue {
-    heap: Vec<Entry>,
+    heap: Vec<u128>,
     /// One more than each cell's place in the heap (0: not queued).
     at: Vec<u32>,
 }
 
 impl Queue {
     fn reset(&mut self, n: usize) {
+        assert!(n <= 1 << INDEX_BITS, "a grid of {n} cells is too large to search");
         self.heap.clear();
         self.at = vec![0; n];
     }
 
     fn first(&self) -> Option<Entry> {
-        self.heap.first().copied()
+        self.heap.first().map(|&e| unpack(e))
     }
 
     /// Queues cell `k` with `key`, or moves it to `key` if it is queued.
     fn set(&mut self, k: u32, key: (u64, u64)) {
-        let e = (key.0, key.1, k);
+        let e = pack((key.0, key.1, k));
         match self.at[k as usize] {
             0 => {
                 self.heap.push(e);
@@ -156,11 +180,9 @@ impl Queue {
         let i = p as usize - 1;
         let last = self.heap.pop().expect("a queued cell is in the heap");
         if i < self.heap.len() {
-            self.heap[i] = last;
-            self.at[last.2 as usize] = i as u32 + 1;
-            self.up(i);
-            let j = self.at[last.2 as usize] as usize - 1;
-            self.down(j);
+            let old = std::mem::replace(&mut self.heap[i], last);
+            self.at[(last as u32 & ((1 << INDEX_BITS) - 1)) as usize] = i as u32 + 1;
+            if last < old { self.up(i) } else { self.down(i) }
         }
     }
 
@@ -170,11 +192,12 @@ impl Queue {
     fn up(&mut self, mut i: usize) {
         let e = self.heap[i];
         while i > 0 {
-            let parent = (i - 1) / 2;
-            if self.heap[parent] <= e {
+            let parent = (i - 1) / ARITY;
+            let pe = self.heap[parent];
+            if pe <= e {
                 break;
             }
-            self.place(i, self.heap[parent]);
+            self.place(i, pe);
             i = parent;
         }
         self.place(i, e);
@@ -185,16 +208,19 @@ impl Queue {
         let e = self.heap[i];
         let n = self.heap.len();
         loop {
-            let (l, r) = (2 * i + 1, 2 * i + 2);
-            let mut least = i;
-            let mut least_e = e;
-            if l < n && self.heap[l] < least_e {
-                (least, least_e) = (l, self.heap[l]);
+            let first = ARITY * i + 1;
+            if first >= n {
+                break;
             }
-            if r < n && self.heap[r] < least_e {
-                (least, least_e) = (r, self.heap[r]);
+            let mut least = first;
+            let mut least_e = self.heap[first];
+            for c in first + 1..(first + ARITY).min(n) {
+                let ce = self.heap[c];
+                if ce < least_e {
+                    (least, least_e) = (c, ce);
+                }
             }
-            if least == i {
+            if least_e >= e {
                 break;
             }
             self.place(i, least_e);
@@ -205,17 +231,20 @@ impl Queue {
 
     /// Writes entry `e` at place `i` of the heap.
     #[inline(always)]
-    fn place(&mut self, i: usize, e: Entry) {
+    fn place(&mut self, i: usize, e: u128) {
         self.heap[i] = e;
-        self.at[e.2 as usize] = i as u32 + 1;
+        self.at[(e as u32 & ((1 << INDEX_BITS) - 1)) as usize] = i as u32 + 1;
     }
 
-    /// The queue of a grown grid, each cell's index changed by `moved`.
+    /// The queue of a grown grid, each cell's index changed by `moved`. The order of the cells
+    /// does not change (the keys do not), so the heap keeps its shape.
     fn moved(&mut self, n: usize, moved: impl Fn(u32) -> u32) {
+        assert!(n <= 1 << INDEX_BITS, "a grid of {n} cells is too large to search");
         self.at = vec![0; n];
         for (i, e) in self.heap.iter_mut().enumerate() {
-            e.2 = moved(e.2);
-            self.at[e.2 as usize] = i as u32 + 1;
+            let (k1, k2, k) = unpack(*e);
+            *e = pack((k1, k2, moved(k)));
+            self.at[moved(k) as usize] = i as u32 + 1;
         }
     }
 }
