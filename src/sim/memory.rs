@@ -522,10 +522,14 @@ impl Memory {
         let (first, last) = (point(1), point(steps.saturating_sub(1).max(1)));
         let (lo, hi) = (first.min(last), first.max(last));
         // A point of the segment off the path's box by more than the stale distance is near no
-        // point of the path (rounding leaves the points within a micrometre of its box).
+        // point of the path (rounding leaves the points within a micrometre of its box), nor is
+        // one when the segment keeps farther than that from every point of the path.
         let (path_lo, path_hi) = self.path_box;
         let apart = (path_lo - hi).max(lo - path_hi).max_element();
-        let stale_free = self.stale || self.path.is_empty() || apart > self.stale_m + 1e-6;
+        let stale_free = self.stale
+            || self.path.is_empty()
+            || apart > self.stale_m + 1e-6
+            || self.path.iter().all(|&q| crate::plan::point_segment_distance(q, first, last) > self.stale_m + 1e-6);
         let reach = self.reach_cells + 1;
         let (i0, j0) = self.cell_of(lo);
         let (i1, j1) = self.cell_of(hi);
