@@ -467,7 +467,14 @@ impl Memory {
             let (lo, hi) = self.path_box;
             // Off the path's box by more than the distance (and rounding), it is near no point.
             let off = (lo - p).max(p - hi).max_element();
-            if off <= self.stale_m + 1e-9 && self.path.iter().any(|q| q.distance(p) <= self.stale_m) {
+            // The distance is worked out only for a point whose squared distance leaves it in
+            // doubt.
+            let (near2, far2) = ((self.stale_m * (1.0 - 1e-9)).powi(2), (self.stale_m * (1.0 + 1e-9)).powi(2));
+            let near = |q: &DVec2| {
+                let d2 = q.distance_squared(p);
+                d2 <= near2 || (d2 <= far2 && q.distance(p) <= self.stale_m)
+            };
+            if off <= self.stale_m + 1e-9 && self.path.iter().any(near) {
                 self.stale = true;
             }
         }
