@@ -519,123 +519,11 @@ impl Memory {
     }
 
     /// [`Memory::mark`] of the points `pa + (pb − pa)·s/steps`, `s` in `1..steps`, one after
-    /// the other — or, when none of them can make the path stale (so the order they are taken
-    /// in changes nothing) and the grid holds all of them with room, at once: each cell takes
-    /// what the nearest of the points gives it (its band and closing fall with the distance),
-    /// the same cells bit for bit.
+    /// the other (with the stamps, cheaper than visiting the cells around the whole segment at
+    /// once).
     fn mark_between(&mut self, pa: DVec2, pb: DVec2, steps: usize) {
-        let point = |s: usize| pa + (pb - pa) * (s as f64 / steps as f64);
-        let c = self.params.cell_m;
-        let (first, last) = (point(1), point(steps.saturating_sub(1).max(1)));
-        let (lo, hi) = (first.min(last), first.max(last));
-        // A point of the segment off the path's box by more than the stale distance is near no
-        // point of the path (rounding leaves the points within a micrometre of its box), nor is
-        // one when the segment keeps farther than that from every point of the path.
-        let (path_lo, path_hi) = self.path_box;
-        let apart = (path_lo - hi).max(lo - path_hi).max_element();
-        let stale_free = self.stale
-            || self.path.is_empty()
-            || apart > self.stale_m + 1e-6
-            || self.path.iter().all(|&q| crate::plan::point_segment_distance(q, first, last) > self.stale_m + 1e-6);
-        let reach = self.reach_cells + 1;
-        let (i0, j0) = self.cell_of(lo);
-        let (i1, j1) = self.cell_of(hi);
-        let roomy = i0 - reach >= 0 && j0 - reach >= 0 && i1 + reach < self.nx as i64 && j1 + reach < self.ny as i64;
-        if steps < 4 || !stale_free || !roomy || !lo.is_finite() || !hi.is_finite() {
-            for s in 1..steps {
-                self.mark(point(s));
-            }
-            return;
-        }
         for s in 1..steps {
-            let (i, j) = self.cell_of(point(s));
-            let k = j as usize * self.nx + i as usize;
-            if self.cells[k] & MARKED == 0 {
-                self.cells[k] |= MARKED;
-                self.known += 1;
-                self.planner.changed(k);
-            }
-        }
-        let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
-        let closed_within = radius - CLOSE_GIVE_CELLS * c;
-        let widest = self.change_within[0];
-        let (ox, oy) = (self.origin.x, self.origin.y);
-        let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
-        let spread = widest.max(0.0).sqrt() / c + 1e-6;
-        let cols = (
-            cells_floor((lo.x - ox) / c - 0.5 - spread).max(i0 - reach),
-            (cells_floor((hi.x - ox) / c - 0.5 + spread) + 1).min(i1 + reach),
-        );
-        let rows = (
-            cells_floor((lo.y - oy) / c - 0.5 - spread).max(j0 - reach),
-            (cells_floor((hi.y - oy) / c - 0.5 + spread) + 1).min(j1 + reach),
-        );
-        let along = last - first;
-        let along2 = along.dot(along);
-        let last_s = steps - 1;
-        let spread_m = spread * c;
-        let Memory { cells, planner, change_within, nx, .. } = self;
-        for jj in rows.0..=rows.1 {
-            // The same centres as `self.centre`.
-            let cy = oy + (jj as f64 + 0.5) * c;
-            // Only the part of the segment within the widest distance of the row's line may
-            // come that near a centre of the row, so only the columns within that distance of
-            // the part are visited.
-            let (t0, t1) = if along.y != 0.0 {
-                let (a, b) = ((cy - spread_m - first.y) / along.y, (cy + spread_m - first.y) / along.y);
-                (a.min(b).max(0.0), a.max(b).min(1.0))
-            } else if (first.y - cy).abs() <= spread_m {
-                (0.0, 1.0)
-            } else {
-                continue;
-            };
-            if !(t0 <= t1) {
-                continue;
-            }
-            let (xa, xb) = (first.x + along.x * t0, first.x + along.x * t1);
-            let lo = cells_floor((xa.min(xb) - ox) / c - 0.5 - spread).max(cols.0);
-            let hi = (cells_floor((xa.max(xb) - ox) / c - 0.5 + spread) + 1).min(cols.1);
-            for ii in lo..=hi {
-                let n = jj as usize * *nx + ii as usize;
-                let old = cells[n];
-                let within = change_within[usize::from(old)];
-                // No point changes a cell that is as deep as it gets.
-                if within < 0.0 {
-                    continue;
-                }
-                let centre = DVec2::new(ox + (ii as f64 + 0.5) * c, cy);
-                // The nearest point of the segment from the first point to the last: no point
-                // is nearer (less rounding, far below the nanometres `within` leaves).
-                let t = if along2 > 0.0 { ((centre - first).dot(along) / along2).clamp(0.0, 1.0) } else { 0.0 };
-                let e = centre - (first + along * t);
-                if !(e.dot(e) < within + 1e-9) {
-                    continue;
-                }
-                // The nearest of the points is one of the two around that place (four steps or
-                // more put them over a third of a cell apart, so the next ones are farther by
-                // far more than rounding; one more each side is looked at all the same).
-                let near = 1 + (t * (last_s - 1) as f64) as usize;
-                let mut d2 = f64::INFINITY;
-                for s in near.saturating_sub(1).max(1)..=(near + 2).min(last_s) {
-                    let p = point(s);
-                    let (qx, qy) = ((ox + (ii as f64 + 0.5) * c) - p.x, cy - p.y);
-                    d2 = d2.min(qx * qx + qy * qy);
-                }
-                if !(d2 < within) {
-                    continue;
-                }
-                let d = d2.sqrt();
-                if d >= radius + margin {
-                    continue;
-                }
-                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
-                let band = BANDS - beyond.min(BANDS - 1);
-                let new = (old & !BAND) | (old & BAND).max(band) | if d < closed_within { HARD } else { 0 };
-                if new != old {
-                    cells[n] = new;
-                    planner.changed(n);
-                }
-            }
+            self.mark(pa + (pb - pa) * (s as f64 / steps as f64));
         }
     }
 
@@ -1193,26 +1081,6 @@ mod tests {
                     }
                 }
             }
-        }
-    }
-
-    #[test]
-    fn a_segment_marked_at_once_marks_what_its_points_mark_one_by_one() {
-        let mut rng = crate::rng::stream(12, 0, 0);
-        let mut unit = || crate::rng::unit(&mut rng);
-        let mut m = Memory::new(DVec2::ZERO, DVec2::new(4.0, 0.0), 0.3, MemoryParams::default());
-        for _ in 0..200 {
-            // Some of the segments cross what earlier ones left, some lie on it.
-            let pa = DVec2::new(unit() * 4.0, unit() * 4.0 - 2.0);
-            let pb = pa + DVec2::from_angle(unit() * std::f64::consts::TAU) * (unit() * 0.6);
-            let steps = (pa.distance(pb) / (0.5 * m.params.cell_m)).ceil() as usize;
-            let mut one_by_one = m.clone();
-            for s in 1..steps {
-                one_by_one.mark(pa + (pb - pa) * (s as f64 / steps as f64));
-            }
-            m.mark_between(pa, pb, steps);
-            assert_eq!(m.cells, one_by_one.cells, "{pa} {pb} {steps}");
-            assert_eq!(m.known, one_by_one.known);
         }
     }
 
