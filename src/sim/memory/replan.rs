@@ -380,7 +380,9 @@ impl Replanner {
 
     #[inline(always)]
     fn xy(&self, k: usize) -> (i64, i64) {
-        ((k % self.nx) as i64, (k / self.nx) as i64)
+        // Grids have fewer than 2³¹ cells (see [`Queue::reset`]): a 32-bit division is cheaper.
+        let (k, nx) = (k as u32, self.nx as u32);
+        (i64::from(k % nx), i64::from(k / nx))
     }
 
     /// The key of cell `k` (infinite when no way is known): see [`Replanner::settle`].
@@ -410,6 +412,27 @@ impl Replanner {
     fn best_move(&self, moves: &Moves, k: usize) -> u32 {
         let (x, y) = self.xy(k);
         let mut best = u64::from(INF);
+        if x >= 1 && y >= 1 && x + 1 < moves.nx && y + 1 < moves.ny {
+            // Inside the grid's border every step stays on the grid: the moves by their offsets
+            // in the cells, those onto cells with no way known first left out (the least is the
+            // same whatever the order the moves are looked at in).
+            let (cells, nx) = (moves.cells, moves.nx as isize);
+            for &(dx, dy, diagonal) in &STEPS {
+                let (dx, dy) = (dx as isize, dy as isize);
+                let m = (k as isize + dy * nx + dx) as usize;
+                let gm = self.g(m);
+                if gm == INF
+                    || !moves.enterable(m, x + dx as i64, y + dy as i64)
+                    || (diagonal
+                        && cells[(k as isize + dx) as usize] & cells[(k as isize + dy * nx) as usize] & HARD != 0)
+                {
+                    continue;
+                }
+                let c = self.costs[usize::from(cells[m] & BAND)][usize::from(diagonal)];
+                best = best.min(u64::from(c) + u64::from(gm));
+            }
+            return best.min(u64::from(INF)) as u32;
+        }
         for &step in &STEPS {
             if let Some((m, c)) = self.edge(moves, x, y, step) {
                 let gm = self.g(m);
