@@ -254,7 +254,7 @@ impl Stamps {
                     let within = |di: i32| gap(di, xlo, xhi).powi(2) + ey * ey < spread * spread;
                     let mut cols = (-most..=most + 1).filter(|&di| within(di));
                     if let Some(lo) = cols.next() {
-                        let hi = cols.last().unwrap_or(lo);
+                        let hi = cols.next_back().unwrap_or(lo);
                         rows.push((dj, lo, hi));
                     }
                 }
