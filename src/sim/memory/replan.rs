@@ -388,12 +388,18 @@ impl Replanner {
     /// The key of cell `k` (infinite when no way is known): see [`Replanner::settle`].
     #[inline(always)]
     fn key(&self, k: usize) -> (u64, u64) {
+        self.key_at(k, self.xy(k))
+    }
+
+    /// [`Replanner::key`] of cell `k` at `xy`.
+    #[inline(always)]
+    fn key_at(&self, k: usize, xy: (i64, i64)) -> (u64, u64) {
         let (g, rhs) = (self.g(k), self.rhs(k));
         let m = g.min(rhs);
         if m == INF {
             return (u64::MAX, u64::MAX);
         }
-        let first = u64::from(m) + octile(self.start, self.xy(k)) + self.km;
+        let first = u64::from(m) + octile(self.start, xy) + self.km;
         if g < rhs { (first, u64::from(g)) } else { (first, (1 << 32) | u64::from(INF - m)) }
     }
 
@@ -409,8 +415,7 @@ impl Replanner {
     }
 
     /// The best of cell `k`'s moves: cost plus the entered cell's `g`.
-    fn best_move(&self, moves: &Moves, k: usize) -> u32 {
-        let (x, y) = self.xy(k);
+    fn best_move(&self, moves: &Moves, k: usize, (x, y): (i64, i64)) -> u32 {
         let mut best = u64::from(INF);
         if x >= 1 && y >= 1 && x + 1 < moves.nx && y + 1 < moves.ny {
             // Inside the grid's border every step stays on the grid: the moves by their offsets
@@ -447,11 +452,10 @@ impl Replanner {
     /// Queues cell `k` with its key when it is inconsistent and a way may enter it (or it is
     /// being settled), and takes it out of the queue otherwise.
     #[inline]
-    fn queue(&mut self, moves: &Moves, k: usize) {
+    fn queue(&mut self, moves: &Moves, k: usize, (x, y): (i64, i64)) {
         if self.g(k) != self.rhs(k) {
-            let (x, y) = self.xy(k);
             if k == self.target || moves.enterable(k, x, y) {
-                let key = self.key(k);
+                let key = self.key_at(k, (x, y));
                 self.open.set(k as u32, key);
                 return;
             }
@@ -459,13 +463,13 @@ impl Replanner {
         self.open.remove(k as u32);
     }
 
-    /// Works out cell `k`'s `rhs` again and queues it if it is inconsistent.
-    fn update(&mut self, moves: &Moves, k: usize) {
+    /// Works out cell `k` (at `xy`)'s `rhs` again and queues it if it is inconsistent.
+    fn update(&mut self, moves: &Moves, k: usize, xy: (i64, i64)) {
         if k != self.goal {
-            let best = self.best_move(moves, k);
+            let best = self.best_move(moves, k, xy);
             self.set_rhs(k, best);
         }
-        self.queue(moves, k);
+        self.queue(moves, k, xy);
     }
 
     /// Moves the agent to cell `start`: the keys' origin moves (`km` grows by the move) and the
@@ -522,7 +526,7 @@ impl Replanner {
         touched.dedup();
         let moves = self.moves(cells);
         for &k in &touched {
-            self.update(&moves, k as usize);
+            self.update(&moves, k as usize, self.xy(k as usize));
         }
         self.touched = touched;
         changed.clear();
@@ -550,16 +554,17 @@ impl Replanner {
         let t = target.1 as usize * self.nx + target.0 as usize;
         self.target = t;
         let moves = self.moves(cells);
-        self.update(&moves, t);
+        self.update(&moves, t, target);
         let mut taken = 0usize;
         while let Some((k1, k2, k)) = self.open.first() {
-            if (k1, k2) > self.key(t) && self.g(t) == self.rhs(t) {
+            if (k1, k2) > self.key_at(t, target) && self.g(t) == self.rhs(t) {
                 break;
             }
             let k = k as usize;
+            let (x, y) = self.xy(k);
             let (gk, rk) = (self.g(k), self.rhs(k));
             // Keys queued before the agent moved are lower bounds: bring it up to date first.
-            let now = self.key(k);
+            let now = self.key_at(k, (x, y));
             if now != (k1, k2) {
                 self.open.set(k as u32, now);
                 continue;
@@ -570,7 +575,6 @@ impl Replanner {
                 return None;
             }
             self.open.remove(k as u32);
-            let (x, y) = self.xy(k);
             if gk > rk {
                 // A shorter way: the cells that step into this one may use it.
                 self.set_g(k, rk);
@@ -590,7 +594,7 @@ impl Replanner {
                     let via = u64::from(into[usize::from(diagonal)]) + u64::from(rk);
                     if p != self.goal && via < u64::from(self.rhs(p)) {
                         self.set_rhs(p, via as u32);
-                        self.queue(&moves, p);
+                        self.queue(&moves, p, (px, py));
                     }
                 }
             } else {
@@ -611,10 +615,10 @@ impl Replanner {
                     if p != self.goal
                         && u64::from(self.rhs(p)) == u64::from(into[usize::from(diagonal)]) + u64::from(gk)
                     {
-                        self.update(&moves, p);
+                        self.update(&moves, p, (px, py));
                     }
                 }
-                self.update(&moves, k);
+                self.update(&moves, k, (x, y));
             }
         }
         self.expanded += taken as u64;
