@@ -453,12 +453,10 @@ impl Replanner {
     /// being settled), and takes it out of the queue otherwise.
     #[inline]
     fn queue(&mut self, moves: &Moves, k: usize, (x, y): (i64, i64)) {
-        if self.g(k) != self.rhs(k) {
-            if k == self.target || moves.enterable(k, x, y) {
-                let key = self.key_at(k, (x, y));
-                self.open.set(k as u32, key);
-                return;
-            }
+        if self.g(k) != self.rhs(k) && (k == self.target || moves.enterable(k, x, y)) {
+            let key = self.key_at(k, (x, y));
+            self.open.set(k as u32, key);
+            return;
         }
         self.open.remove(k as u32);
     }
