@@ -1117,9 +1117,8 @@ fn hinged_leg_ik(
     let t = if t.length() > 1e-9 { t * (d / t.length()) } else { DVec3::new(0.0, 0.0, -d) };
     // The knee: its angle from the law of cosines, on the side it bends now (forward: the shin
     // swings back for a positive angle).
-    let bend = super::skeleton::twist(pose.rotations[knee], DVec3::Y);
-    let c =
-        ((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).clamp(-1.0, 1.0).acos() * if bend < 0.0 { -1.0 } else { 1.0 };
+    let back = super::skeleton::twist_is_negative(pose.rotations[knee], DVec3::Y);
+    let c = ((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).clamp(-1.0, 1.0).acos() * if back { -1.0 } else { 1.0 };
     // The ankle in the hip's frame, in its XZ plane; X then Y at the hip take it to the target.
     let (px, pz) = (-l2 * c.sin(), -l1 - l2 * c.cos());
     let b = (-t.y / pz).clamp(-1.0, 1.0).asin();

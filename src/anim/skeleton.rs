@@ -361,9 +361,40 @@ pub fn twist(q: DQuat, axis: DVec3) -> f64 {
     2.0 * v.atan2(w)
 }
 
+/// Whether [`twist`]`(q, axis)` is below zero, told by the sign of the rotation's part along
+/// the axis where that decides it (the arc tangent then is neither zero nor rounded to it),
+/// without working the angle out.
+pub fn twist_is_negative(q: DQuat, axis: DVec3) -> bool {
+    let v = DVec3::new(q.x, q.y, q.z).dot(axis);
+    let (v, w) = if q.w.is_sign_negative() { (-v, -q.w) } else { (v, q.w) };
+    if (0.0..=2.0).contains(&w) && v.abs() >= 1e-290 { v < 0.0 } else { twist(q, axis) < 0.0 }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_sign_of_a_twist_is_told_as_the_angle_tells_it() {
+        let mut rng = crate::rng::stream(9, 0, 0);
+        let mut unit = || crate::rng::uniform(&mut rng, -1.0, 1.0);
+        let axes = [DVec3::X, DVec3::Y, DVec3::Z, DVec3::new(0.6, -0.8, 0.0)];
+        for k in 0..20_000 {
+            let q = match k % 5 {
+                0 => DQuat::from_xyzw(unit(), unit(), unit(), unit()).normalize(),
+                1 => DQuat::from_rotation_y(4.0 * unit()),
+                2 => DQuat::from_xyzw(unit() * 1e-300, unit() * 1e-300, unit() * 1e-300, unit()),
+                3 => DQuat::from_xyzw(unit(), unit(), unit(), 0.0 * unit()),
+                _ => DQuat::from_xyzw(unit() * 3.0, unit() * 3.0, unit() * 3.0, unit() * 3.0),
+            };
+            for axis in axes {
+                assert_eq!(twist_is_negative(q, axis), twist(q, axis) < 0.0, "{q:?} {axis}");
+            }
+        }
+        for q in [DQuat::from_xyzw(0.0, -0.0, 0.0, 1.0), DQuat::from_xyzw(0.0, f64::NAN, 0.0, 1.0), -DQuat::IDENTITY] {
+            assert_eq!(twist_is_negative(q, DVec3::Y), twist(q, DVec3::Y) < 0.0, "{q:?}");
+        }
+    }
 
     #[test]
     fn an_arc_interpolates_exactly_as_slerp() {

@@ -180,6 +180,8 @@ pub struct Memory {
     /// a cell's centre to change the cell, by the cell's state (its byte in `cells`); below
     /// zero for a cell no point can change.
     change_within: Box<[f64; 256]>,
+    /// The cells a point may change, by where it lies in its cell.
+    stamps: std::sync::Arc<Stamps>,
     /// A new mark this near the path makes it stale, metres (radius, margin and a cell).
     stale_m: f64,
     goal: DVec2,
@@ -246,6 +248,84 @@ fn closing(d: f64, closed_within: f64, hard_within: f64) -> u8 {
     }
 }
 
+/// Sides of the squares a cell is cut into for [`Stamps`].
+const STAMP_SIDES: usize = 16;
+
+/// The cells whose centres may lie within a distance of a point, by where the point lies in its
+/// cell: for each of the [`STAMP_SIDES`]² squares the cell is cut into, the rows of cells, each
+/// as its offset and its first and last column's, relative to the cell whose centre is the
+/// nearest below and left of the point. A cell is listed when its centre lies within the
+/// distance, widened by a micro-cell, of some point of the square, so every cell within the
+/// distance of the point itself is, whatever the rounding.
+#[derive(Debug, Clone)]
+struct Stamps {
+    /// Every square's rows, one square after the other.
+    rows: Vec<(i32, i32, i32)>,
+    /// Where each square's rows start in `rows`, and where the last one's end.
+    start: Vec<u32>,
+}
+
+impl Stamps {
+    /// The stamps for a distance of `spread` cells.
+    fn new(spread: f64) -> Stamps {
+        let n = STAMP_SIDES as f64;
+        let spread = spread + 1e-6;
+        let most = spread.ceil() as i32 + 1;
+        // Nearest a centre at offset `d` comes to a point at offsets `lo..=hi` from the cell's.
+        let gap = |d: i32, lo: f64, hi: f64| {
+            let d = f64::from(d);
+            if d < lo {
+                lo - d
+            } else if d > hi {
+                d - hi
+            } else {
+                0.0
+            }
+        };
+        let mut rows = Vec::new();
+        let mut start = vec![0u32];
+        for sy in 0..STAMP_SIDES {
+            let (ylo, yhi) = (sy as f64 / n - 1e-6, (sy + 1) as f64 / n + 1e-6);
+            for sx in 0..STAMP_SIDES {
+                let (xlo, xhi) = (sx as f64 / n - 1e-6, (sx + 1) as f64 / n + 1e-6);
+                for dj in -most..=most + 1 {
+                    let ey = gap(dj, ylo, yhi);
+                    let within = |di: i32| gap(di, xlo, xhi).powi(2) + ey * ey < spread * spread;
+                    let mut cols = (-most..=most + 1).filter(|&di| within(di));
+                    if let Some(lo) = cols.next() {
+                        let hi = cols.next_back().unwrap_or(lo);
+                        rows.push((dj, lo, hi));
+                    }
+                }
+                start.push(rows.len() as u32);
+            }
+        }
+        Stamps { rows, start }
+    }
+
+    /// [`Stamps::new`], made once for each distance and shared (every agent of a run has the
+    /// same).
+    fn shared(spread: f64) -> std::sync::Arc<Stamps> {
+        static MADE: std::sync::Mutex<Vec<(u64, std::sync::Arc<Stamps>)>> = std::sync::Mutex::new(Vec::new());
+        let mut made = MADE.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, stamps)) = made.iter().find(|(bits, _)| *bits == spread.to_bits()) {
+            return stamps.clone();
+        }
+        let stamps = std::sync::Arc::new(Stamps::new(spread));
+        made.push((spread.to_bits(), stamps.clone()));
+        stamps
+    }
+
+    /// The rows for a point `(u, v)` cells right of and above its cell's centre (each about
+    /// in `[0, 1)`).
+    #[inline]
+    fn rows(&self, u: f64, v: f64) -> &[(i32, i32, i32)] {
+        let side = |w: f64| ((w * STAMP_SIDES as f64) as usize).min(STAMP_SIDES - 1);
+        let k = side(v) * STAMP_SIDES + side(u);
+        &self.rows[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}
+
 /// A cell is closed when its centre lies within the disc's radius less this share of a cell of
 /// a point seen: a gap three quarters of a cell wider than the disc (0.69 m for the 0.6 m disc)
 /// then always keeps a cell centre open across it, however the grid falls, and stays open. A
@@ -284,6 +364,19 @@ impl Memory {
                 params.margin_m.max(0.0),
                 radius.max(0.0) - CLOSE_GIVE_CELLS * c,
                 radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+            ),
+            // The widest distance a point changes a cell from (an empty cell's): the same for
+            // every stance (`with_narrowest` only narrows what closes a narrow cell).
+            stamps: Stamps::shared(
+                change_within(
+                    radius.max(0.0),
+                    params.margin_m.max(0.0),
+                    radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+                    radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+                )[0]
+                .max(0.0)
+                .sqrt()
+                    / c,
             ),
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
@@ -393,67 +486,71 @@ impl Memory {
         // Most cells around a surface seen again are already as deep as this point makes
         // them: a cell can only change within the distance its state still allows
         // (`self.change_within`, squared, a little wide for rounding), so the exact band is
-        // worked out only for cells nearer than that. Row by row, only the cells whose centres
-        // may lie within the widest of those distances are visited.
-        // An empty cell is the one a point changes from farthest.
-        let widest = self.change_within[0];
+        // worked out only for cells nearer than that. Only the cells whose centres may lie
+        // within the widest of those distances (an empty cell's) are visited, row by row as
+        // the stamp for where `p` lies in its cell lists them.
         let reach = self.reach_cells;
         let (nx, ny) = (self.nx as i64, self.ny as i64);
         let (ox, oy) = (self.origin.x, self.origin.y);
-        // `p` in cells from the centre of cell 0, and the rows and columns a centre within
-        // `widest` of it may lie in, a little wide (`cells_floor` is the floor near the grid).
+        // `p` in cells from the centre of cell 0 (`cells_floor` is the floor near the grid).
         let (fx, fy) = ((p.x - ox) / c - 0.5, (p.y - oy) / c - 0.5);
         let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
-        let spread = widest.max(0.0).sqrt() / c + 1e-6;
-        let rows =
-            (cells_floor(fy - spread).max(j - reach).max(0), (cells_floor(fy + spread) + 1).min(j + reach).min(ny - 1));
-        let Memory { cells, planner, change_within, .. } = self;
-        for jj in rows.0..=rows.1 {
+        let (i0, j0) = (cells_floor(fx), cells_floor(fy));
+        let rows = ((j - reach).max(0), (j + reach).min(ny - 1));
+        let (cols_lo, cols_hi) = ((i - reach).max(0), (i + reach).min(nx - 1));
+        let Memory { cells, planner, change_within, stamps, .. } = self;
+        for &(dj, dlo, dhi) in stamps.rows(fx - i0 as f64, fy - j0 as f64) {
+            let jj = j0 + i64::from(dj);
+            if jj < rows.0 || jj > rows.1 {
+                continue;
+            }
             // The same centre as `self.centre(_, jj)`, and the same distance as `distance`.
             let qy = (oy + (jj as f64 + 0.5) * c) - p.y;
             let qy2 = qy * qy;
-            let rest = widest - qy2;
-            if !(rest > 0.0) {
-                continue;
-            }
-            let h = rest.sqrt() / c + 1e-6;
-            let lo = cells_floor(fx - h).max(i - reach).max(0);
-            let hi = (cells_floor(fx + h) + 1).min(i + reach).min(nx - 1);
+            let lo = (i0 + i64::from(dlo)).max(cols_lo);
+            let hi = (i0 + i64::from(dhi)).min(cols_hi);
             if lo > hi {
                 continue;
             }
             let row = jj as usize * nx as usize;
-            // A first test with the centres stepped along the row (rounding far below the
-            // nanometre `change_within` leaves), then the exact one with each centre as
-            // `self.centre` gives it.
-            let mut qx_row = (ox + (lo as f64 + 0.5) * c) - p.x;
-            for (at, cell) in cells[row + lo as usize..=row + hi as usize].iter_mut().enumerate() {
-                let old = *cell;
-                let within = change_within[usize::from(old)];
-                let near = qx_row * qx_row + qy2 < within;
-                qx_row += c;
-                if !near {
-                    continue;
+            // A first test of the whole row at once, with the centres stepped from the row's
+            // first (rounding far below the nanometre `change_within` leaves) and no branch,
+            // gives the cells that may change; the exact test follows for those alone, with
+            // each centre as `self.centre` gives it.
+            let qx_lo = (ox + (lo as f64 + 0.5) * c) - p.x;
+            let span = &mut cells[row + lo as usize..=row + hi as usize];
+            for (chunk, part) in span.chunks_mut(64).enumerate() {
+                let mut near = 0u64;
+                for (at, &cell) in part.iter().enumerate() {
+                    let qx = qx_lo + (chunk * 64 + at) as f64 * c;
+                    near |= u64::from(qx * qx + qy2 < change_within[usize::from(cell)]) << at;
                 }
-                let ii = lo + at as i64;
-                let qx = (ox + (ii as f64 + 0.5) * c) - p.x;
-                let d2 = qx * qx + qy2;
-                if !(d2 < within) {
-                    continue;
-                }
-                let d = d2.sqrt();
-                if d >= radius + margin {
-                    continue;
-                }
-                // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as the
-                // clamp of a NaN floor gives).
-                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
-                let band = BANDS - beyond.min(BANDS - 1);
-                let new = (old & !BAND) | (old & BAND).max(band) | closing(d, closed_within, hard_within);
-                if new != old {
-                    *cell = new;
-                    planner.changed(row + ii as usize);
-                    changed = true;
+                while near != 0 {
+                    let at = near.trailing_zeros() as usize;
+                    near &= near - 1;
+                    let cell = &mut part[at];
+                    let old = *cell;
+                    let within = change_within[usize::from(old)];
+                    let ii = lo + (chunk * 64 + at) as i64;
+                    let qx = (ox + (ii as f64 + 0.5) * c) - p.x;
+                    let d2 = qx * qx + qy2;
+                    if !(d2 < within) {
+                        continue;
+                    }
+                    let d = d2.sqrt();
+                    if d >= radius + margin {
+                        continue;
+                    }
+                    // `(x as u8)` is `x.floor()` for the non-negative `x` here (and 0 for NaN, as
+                    // the clamp of a NaN floor gives).
+                    let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
+                    let band = BANDS - beyond.min(BANDS - 1);
+                    let new = (old & !BAND) | (old & BAND).max(band) | closing(d, closed_within, hard_within);
+                    if new != old {
+                        *cell = new;
+                        planner.changed(row + ii as usize);
+                        changed = true;
+                    }
                 }
             }
         }
@@ -462,7 +559,14 @@ impl Memory {
             let (lo, hi) = self.path_box;
             // Off the path's box by more than the distance (and rounding), it is near no point.
             let off = (lo - p).max(p - hi).max_element();
-            if off <= self.stale_m + 1e-9 && self.path.iter().any(|q| q.distance(p) <= self.stale_m) {
+            // The distance is worked out only for a point whose squared distance leaves it in
+            // doubt.
+            let (near2, far2) = ((self.stale_m * (1.0 - 1e-9)).powi(2), (self.stale_m * (1.0 + 1e-9)).powi(2));
+            let near = |q: &DVec2| {
+                let d2 = q.distance_squared(p);
+                d2 <= near2 || (d2 <= far2 && q.distance(p) <= self.stale_m)
+            };
+            if off <= self.stale_m + 1e-9 && self.path.iter().any(near) {
                 self.stale = true;
             }
         }
@@ -507,97 +611,11 @@ impl Memory {
     }
 
     /// [`Memory::mark`] of the points `pa + (pb − pa)·s/steps`, `s` in `1..steps`, one after
-    /// the other — or, when none of them can make the path stale (so the order they are taken
-    /// in changes nothing) and the grid holds all of them with room, at once: each cell takes
-    /// what the nearest of the points gives it (its band and closing fall with the distance),
-    /// the same cells bit for bit.
+    /// the other (with the stamps, cheaper than visiting the cells around the whole segment at
+    /// once).
     fn mark_between(&mut self, pa: DVec2, pb: DVec2, steps: usize) {
-        let point = |s: usize| pa + (pb - pa) * (s as f64 / steps as f64);
-        let c = self.params.cell_m;
-        let (first, last) = (point(1), point(steps.saturating_sub(1).max(1)));
-        let (lo, hi) = (first.min(last), first.max(last));
-        // A point of the segment off the path's box by more than the stale distance is near no
-        // point of the path (rounding leaves the points within a micrometre of its box).
-        let (path_lo, path_hi) = self.path_box;
-        let apart = (path_lo - hi).max(lo - path_hi).max_element();
-        let stale_free = self.stale || self.path.is_empty() || apart > self.stale_m + 1e-6;
-        let reach = self.reach_cells + 1;
-        let (i0, j0) = self.cell_of(lo);
-        let (i1, j1) = self.cell_of(hi);
-        let roomy = i0 - reach >= 0 && j0 - reach >= 0 && i1 + reach < self.nx as i64 && j1 + reach < self.ny as i64;
-        if steps < 4 || !stale_free || !roomy || !lo.is_finite() || !hi.is_finite() {
-            for s in 1..steps {
-                self.mark(point(s));
-            }
-            return;
-        }
         for s in 1..steps {
-            let (i, j) = self.cell_of(point(s));
-            let k = j as usize * self.nx + i as usize;
-            if self.cells[k] & MARKED == 0 {
-                self.cells[k] |= MARKED;
-                self.known += 1;
-                self.planner.changed(k);
-            }
-        }
-        let (radius, margin) = (self.radius, self.params.margin_m.max(0.0));
-        let (closed_within, hard_within) = (self.closed_within, self.hard_within);
-        let widest = self.change_within[0];
-        let (ox, oy) = (self.origin.x, self.origin.y);
-        let cells_floor = |x: f64| (x + CELLS_FLOOR) as i64 - CELLS_FLOOR as i64;
-        let spread = widest.max(0.0).sqrt() / c + 1e-6;
-        let cols = (
-            cells_floor((lo.x - ox) / c - 0.5 - spread).max(i0 - reach),
-            (cells_floor((hi.x - ox) / c - 0.5 + spread) + 1).min(i1 + reach),
-        );
-        let rows = (
-            cells_floor((lo.y - oy) / c - 0.5 - spread).max(j0 - reach),
-            (cells_floor((hi.y - oy) / c - 0.5 + spread) + 1).min(j1 + reach),
-        );
-        let along = last - first;
-        let along2 = along.dot(along);
-        let last_s = steps - 1;
-        let Memory { cells, planner, change_within, nx, .. } = self;
-        for jj in rows.0..=rows.1 {
-            // The same centres as `self.centre`.
-            let cy = oy + (jj as f64 + 0.5) * c;
-            for ii in cols.0..=cols.1 {
-                let n = jj as usize * *nx + ii as usize;
-                let old = cells[n];
-                let within = change_within[usize::from(old)];
-                let centre = DVec2::new(ox + (ii as f64 + 0.5) * c, cy);
-                // The nearest point of the segment from the first point to the last: no point
-                // is nearer (less rounding, far below the nanometres `within` leaves).
-                let t = if along2 > 0.0 { ((centre - first).dot(along) / along2).clamp(0.0, 1.0) } else { 0.0 };
-                let e = centre - (first + along * t);
-                if !(e.dot(e) < within + 1e-9) {
-                    continue;
-                }
-                // The nearest of the points is one of the two around that place (four steps or
-                // more put them over a third of a cell apart, so the next ones are farther by
-                // far more than rounding; one more each side is looked at all the same).
-                let near = 1 + (t * (last_s - 1) as f64) as usize;
-                let mut d2 = f64::INFINITY;
-                for s in near.saturating_sub(1).max(1)..=(near + 2).min(last_s) {
-                    let p = point(s);
-                    let (qx, qy) = ((ox + (ii as f64 + 0.5) * c) - p.x, cy - p.y);
-                    d2 = d2.min(qx * qx + qy * qy);
-                }
-                if !(d2 < within) {
-                    continue;
-                }
-                let d = d2.sqrt();
-                if d >= radius + margin {
-                    continue;
-                }
-                let beyond = ((d - radius).max(0.0) / margin.max(1e-9) * f64::from(BANDS)) as u8;
-                let band = BANDS - beyond.min(BANDS - 1);
-                let new = (old & !BAND) | (old & BAND).max(band) | closing(d, closed_within, hard_within);
-                if new != old {
-                    cells[n] = new;
-                    planner.changed(n);
-                }
-            }
+            self.mark(pa + (pb - pa) * (s as f64 / steps as f64));
         }
     }
 
@@ -1176,22 +1194,22 @@ mod tests {
     }
 
     #[test]
-    fn a_segment_marked_at_once_marks_what_its_points_mark_one_by_one() {
-        let mut rng = crate::rng::stream(12, 0, 0);
+    fn a_stamp_lists_every_cell_within_its_distance() {
+        let mut rng = crate::rng::stream(13, 0, 0);
         let mut unit = || crate::rng::unit(&mut rng);
-        let mut m = Memory::new(DVec2::ZERO, DVec2::new(4.0, 0.0), 0.3, MemoryParams::default());
-        for _ in 0..200 {
-            // Some of the segments cross what earlier ones left, some lie on it.
-            let pa = DVec2::new(unit() * 4.0, unit() * 4.0 - 2.0);
-            let pb = pa + DVec2::from_angle(unit() * std::f64::consts::TAU) * (unit() * 0.6);
-            let steps = (pa.distance(pb) / (0.5 * m.params.cell_m)).ceil() as usize;
-            let mut one_by_one = m.clone();
-            for s in 1..steps {
-                one_by_one.mark(pa + (pb - pa) * (s as f64 / steps as f64));
+        for spread in [0.4, 1.0, 3.6, 5.3] {
+            let stamps = Stamps::new(spread);
+            for _ in 0..2000 {
+                let (u, v) = (unit(), unit());
+                let rows = stamps.rows(u, v);
+                for dj in -8..=9 {
+                    for di in -8..=9 {
+                        let (x, y) = (f64::from(di) - u, f64::from(dj) - v);
+                        let listed = rows.iter().any(|&(j, lo, hi)| j == dj && (lo..=hi).contains(&di));
+                        assert!(listed || x * x + y * y >= spread * spread, "{spread} {u} {v} {di} {dj}");
+                    }
+                }
             }
-            m.mark_between(pa, pb, steps);
-            assert_eq!(m.cells, one_by_one.cells, "{pa} {pb} {steps}");
-            assert_eq!(m.known, one_by_one.known);
         }
     }
 

@@ -196,25 +196,28 @@ pub fn swept_free_ahead(scan: &[f64], i: usize, radius: f64, grown: f64, range: 
         return swept_free_along(scan, i, radius, grown, range, |d| turns[d]);
     }
     let mut free = scan[i];
-    let mut cut = |d: usize| {
-        let j = if i + d >= n { i + d - n } else { i + d };
-        let f = scan[j];
-        if f >= range {
-            return;
-        }
-        let t = f + radius;
-        let (c, s) = turns[d];
-        let (along, perp) = (t * c, t * s);
-        if along > 0.0 && perp.abs() < grown {
-            free = free.min((along - (grown * grown - perp * perp).sqrt()).max(0.0));
+    // The rays `d` steps round from ray `i` for `d` in `d0..d1`, in that order, as at most two
+    // runs of neighbouring rays (the scan wraps round).
+    let mut cut = |d0: usize, d1: usize| {
+        let mut d = d0;
+        while d < d1 {
+            let j = (i + d) % n;
+            let len = (d1 - d).min(n - j);
+            for (&f, &(c, s)) in scan[j..j + len].iter().zip(&turns[d..d + len]) {
+                if f >= range {
+                    continue;
+                }
+                let t = f + radius;
+                let (along, perp) = (t * c, t * s);
+                if along > 0.0 && perp.abs() < grown {
+                    free = free.min((along - (grown * grown - perp * perp).sqrt()).max(0.0));
+                }
+            }
+            d += len;
         }
     };
-    for d in 0..=half {
-        cut(d);
-    }
-    for d in n - half..n {
-        cut(d);
-    }
+    cut(0, half + 1);
+    cut(n - half, n);
     free
 }
 

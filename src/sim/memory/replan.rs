@@ -121,28 +121,52 @@ fn octile(a: (i64, i64), b: (i64, i64)) -> u64 {
 /// A queued cell: its key, then its index (the order of the queue).
 type Entry = (u64, u64, u32);
 
-/// The queue of inconsistent cells: a binary heap of [`Entry`]s that knows where each cell
-/// is, so a cell is queued once and its key changed or taken out in place.
+/// Bits of a packed entry below the key's first part: the key's second part (below 2³³, see
+/// [`Replanner::key`]) and the cell's index (below 2³¹).
+const INDEX_BITS: u32 = 31;
+
+/// An [`Entry`] in one number that orders as the entry does: the key's first part, its second,
+/// the cell's index.
+#[inline(always)]
+fn pack((k1, k2, k): Entry) -> u128 {
+    debug_assert!(k2 < 1 << 33 && k < 1 << INDEX_BITS);
+    (u128::from(k1) << 64) | (u128::from(k2) << INDEX_BITS) | u128::from(k)
+}
+
+/// The [`Entry`] of a [`pack`]ed one.
+#[inline(always)]
+fn unpack(e: u128) -> Entry {
+    ((e >> 64) as u64, ((e as u64) >> INDEX_BITS), (e as u32) & ((1 << INDEX_BITS) - 1))
+}
+
+/// Children of each place in the queue's heap.
+const ARITY: usize = 4;
+
+/// The queue of inconsistent cells: a heap of [`pack`]ed entries, each place's [`ARITY`]
+/// children after it, that knows where each cell is, so a cell is queued once and its key
+/// changed or taken out in place. Keys are unique (they end in the cell's index), so the first
+/// entry is whatever the heap's shape.
 #[derive(Debug, Clone, Default)]
 struct Queue {
-    heap: Vec<Entry>,
+    heap: Vec<u128>,
     /// One more than each cell's place in the heap (0: not queued).
     at: Vec<u32>,
 }
 
 impl Queue {
     fn reset(&mut self, n: usize) {
+        assert!(n <= 1 << INDEX_BITS, "a grid of {n} cells is too large to search");
         self.heap.clear();
         self.at = vec![0; n];
     }
 
     fn first(&self) -> Option<Entry> {
-        self.heap.first().copied()
+        self.heap.first().map(|&e| unpack(e))
     }
 
     /// Queues cell `k` with `key`, or moves it to `key` if it is queued.
     fn set(&mut self, k: u32, key: (u64, u64)) {
-        let e = (key.0, key.1, k);
+        let e = pack((key.0, key.1, k));
         match self.at[k as usize] {
             0 => {
                 self.heap.push(e);
@@ -166,11 +190,9 @@ impl Queue {
         let i = p as usize - 1;
         let last = self.heap.pop().expect("a queued cell is in the heap");
         if i < self.heap.len() {
-            self.heap[i] = last;
-            self.at[last.2 as usize] = i as u32 + 1;
-            self.up(i);
-            let j = self.at[last.2 as usize] as usize - 1;
-            self.down(j);
+            let old = std::mem::replace(&mut self.heap[i], last);
+            self.at[(last as u32 & ((1 << INDEX_BITS) - 1)) as usize] = i as u32 + 1;
+            if last < old { self.up(i) } else { self.down(i) }
         }
     }
 
@@ -180,11 +202,12 @@ impl Queue {
     fn up(&mut self, mut i: usize) {
         let e = self.heap[i];
         while i > 0 {
-            let parent = (i - 1) / 2;
-            if self.heap[parent] <= e {
+            let parent = (i - 1) / ARITY;
+            let pe = self.heap[parent];
+            if pe <= e {
                 break;
             }
-            self.place(i, self.heap[parent]);
+            self.place(i, pe);
             i = parent;
         }
         self.place(i, e);
@@ -195,16 +218,19 @@ impl Queue {
         let e = self.heap[i];
         let n = self.heap.len();
         loop {
-            let (l, r) = (2 * i + 1, 2 * i + 2);
-            let mut least = i;
-            let mut least_e = e;
-            if l < n && self.heap[l] < least_e {
-                (least, least_e) = (l, self.heap[l]);
+            let first = ARITY * i + 1;
+            if first >= n {
+                break;
             }
-            if r < n && self.heap[r] < least_e {
-                (least, least_e) = (r, self.heap[r]);
+            let mut least = first;
+            let mut least_e = self.heap[first];
+            for c in first + 1..(first + ARITY).min(n) {
+                let ce = self.heap[c];
+                if ce < least_e {
+                    (least, least_e) = (c, ce);
+                }
             }
-            if least == i {
+            if least_e >= e {
                 break;
             }
             self.place(i, least_e);
@@ -215,17 +241,20 @@ impl Queue {
 
     /// Writes entry `e` at place `i` of the heap.
     #[inline(always)]
-    fn place(&mut self, i: usize, e: Entry) {
+    fn place(&mut self, i: usize, e: u128) {
         self.heap[i] = e;
-        self.at[e.2 as usize] = i as u32 + 1;
+        self.at[(e as u32 & ((1 << INDEX_BITS) - 1)) as usize] = i as u32 + 1;
     }
 
-    /// The queue of a grown grid, each cell's index changed by `moved`.
+    /// The queue of a grown grid, each cell's index changed by `moved`. The order of the cells
+    /// does not change (the keys do not), so the heap keeps its shape.
     fn moved(&mut self, n: usize, moved: impl Fn(u32) -> u32) {
+        assert!(n <= 1 << INDEX_BITS, "a grid of {n} cells is too large to search");
         self.at = vec![0; n];
         for (i, e) in self.heap.iter_mut().enumerate() {
-            e.2 = moved(e.2);
-            self.at[e.2 as usize] = i as u32 + 1;
+            let (k1, k2, k) = unpack(*e);
+            *e = pack((k1, k2, moved(k)));
+            self.at[moved(k) as usize] = i as u32 + 1;
         }
     }
 }
@@ -361,18 +390,26 @@ impl Replanner {
 
     #[inline(always)]
     fn xy(&self, k: usize) -> (i64, i64) {
-        ((k % self.nx) as i64, (k / self.nx) as i64)
+        // Grids have fewer than 2³¹ cells (see [`Queue::reset`]): a 32-bit division is cheaper.
+        let (k, nx) = (k as u32, self.nx as u32);
+        (i64::from(k % nx), i64::from(k / nx))
     }
 
     /// The key of cell `k` (infinite when no way is known): see [`Replanner::settle`].
     #[inline(always)]
     fn key(&self, k: usize) -> (u64, u64) {
+        self.key_at(k, self.xy(k))
+    }
+
+    /// [`Replanner::key`] of cell `k` at `xy`.
+    #[inline(always)]
+    fn key_at(&self, k: usize, xy: (i64, i64)) -> (u64, u64) {
         let (g, rhs) = (self.g(k), self.rhs(k));
         let m = g.min(rhs);
         if m == INF {
             return (u64::MAX, u64::MAX);
         }
-        let first = u64::from(m) + octile(self.start, self.xy(k)) + self.km;
+        let first = u64::from(m) + octile(self.start, xy) + self.km;
         if g < rhs { (first, u64::from(g)) } else { (first, (1 << 32) | u64::from(INF - m)) }
     }
 
@@ -388,9 +425,29 @@ impl Replanner {
     }
 
     /// The best of cell `k`'s moves: cost plus the entered cell's `g`.
-    fn best_move(&self, moves: &Moves, k: usize) -> u32 {
-        let (x, y) = self.xy(k);
+    fn best_move(&self, moves: &Moves, k: usize, (x, y): (i64, i64)) -> u32 {
         let mut best = u64::from(INF);
+        if x >= 1 && y >= 1 && x + 1 < moves.nx && y + 1 < moves.ny {
+            // Inside the grid's border every step stays on the grid: the moves by their offsets
+            // in the cells, those onto cells with no way known first left out (the least is the
+            // same whatever the order the moves are looked at in).
+            let (cells, nx) = (moves.cells, moves.nx as isize);
+            for &(dx, dy, diagonal) in &STEPS {
+                let (dx, dy) = (dx as isize, dy as isize);
+                let m = (k as isize + dy * nx + dx) as usize;
+                let gm = self.g(m);
+                if gm == INF
+                    || !moves.enterable(m, x + dx as i64, y + dy as i64)
+                    || (diagonal
+                        && cells[(k as isize + dx) as usize] & cells[(k as isize + dy * nx) as usize] & HARD != 0)
+                {
+                    continue;
+                }
+                let c = self.costs[usize::from(cells[m] & COST)][usize::from(diagonal)];
+                best = best.min(u64::from(c) + u64::from(gm));
+            }
+            return best.min(u64::from(INF)) as u32;
+        }
         for &step in &STEPS {
             if let Some((m, c)) = self.edge(moves, x, y, step) {
                 let gm = self.g(m);
@@ -405,25 +462,22 @@ impl Replanner {
     /// Queues cell `k` with its key when it is inconsistent and a way may enter it (or it is
     /// being settled), and takes it out of the queue otherwise.
     #[inline]
-    fn queue(&mut self, moves: &Moves, k: usize) {
-        if self.g(k) != self.rhs(k) {
-            let (x, y) = self.xy(k);
-            if k == self.target || moves.enterable(k, x, y) {
-                let key = self.key(k);
-                self.open.set(k as u32, key);
-                return;
-            }
+    fn queue(&mut self, moves: &Moves, k: usize, (x, y): (i64, i64)) {
+        if self.g(k) != self.rhs(k) && (k == self.target || moves.enterable(k, x, y)) {
+            let key = self.key_at(k, (x, y));
+            self.open.set(k as u32, key);
+            return;
         }
         self.open.remove(k as u32);
     }
 
-    /// Works out cell `k`'s `rhs` again and queues it if it is inconsistent.
-    fn update(&mut self, moves: &Moves, k: usize) {
+    /// Works out cell `k` (at `xy`)'s `rhs` again and queues it if it is inconsistent.
+    fn update(&mut self, moves: &Moves, k: usize, xy: (i64, i64)) {
         if k != self.goal {
-            let best = self.best_move(moves, k);
+            let best = self.best_move(moves, k, xy);
             self.set_rhs(k, best);
         }
-        self.queue(moves, k);
+        self.queue(moves, k, xy);
     }
 
     /// Moves the agent to cell `start`: the keys' origin moves (`km` grows by the move) and the
@@ -480,7 +534,7 @@ impl Replanner {
         touched.dedup();
         let moves = self.moves(cells);
         for &k in &touched {
-            self.update(&moves, k as usize);
+            self.update(&moves, k as usize, self.xy(k as usize));
         }
         self.touched = touched;
         changed.clear();
@@ -508,16 +562,17 @@ impl Replanner {
         let t = target.1 as usize * self.nx + target.0 as usize;
         self.target = t;
         let moves = self.moves(cells);
-        self.update(&moves, t);
+        self.update(&moves, t, target);
         let mut taken = 0usize;
         while let Some((k1, k2, k)) = self.open.first() {
-            if (k1, k2) > self.key(t) && self.g(t) == self.rhs(t) {
+            if (k1, k2) > self.key_at(t, target) && self.g(t) == self.rhs(t) {
                 break;
             }
             let k = k as usize;
+            let (x, y) = self.xy(k);
             let (gk, rk) = (self.g(k), self.rhs(k));
             // Keys queued before the agent moved are lower bounds: bring it up to date first.
-            let now = self.key(k);
+            let now = self.key_at(k, (x, y));
             if now != (k1, k2) {
                 self.open.set(k as u32, now);
                 continue;
@@ -528,7 +583,6 @@ impl Replanner {
                 return None;
             }
             self.open.remove(k as u32);
-            let (x, y) = self.xy(k);
             if gk > rk {
                 // A shorter way: the cells that step into this one may use it.
                 self.set_g(k, rk);
@@ -548,7 +602,7 @@ impl Replanner {
                     let via = u64::from(into[usize::from(diagonal)]) + u64::from(rk);
                     if p != self.goal && via < u64::from(self.rhs(p)) {
                         self.set_rhs(p, via as u32);
-                        self.queue(&moves, p);
+                        self.queue(&moves, p, (px, py));
                     }
                 }
             } else {
@@ -569,10 +623,10 @@ impl Replanner {
                     if p != self.goal
                         && u64::from(self.rhs(p)) == u64::from(into[usize::from(diagonal)]) + u64::from(gk)
                     {
-                        self.update(&moves, p);
+                        self.update(&moves, p, (px, py));
                     }
                 }
-                self.update(&moves, k);
+                self.update(&moves, k, (x, y));
             }
         }
         self.expanded += taken as u64;
@@ -683,10 +737,15 @@ mod tests {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
 
+    /// The costs the tests plan with: the memory's margin, and narrow cells dearer still.
+    fn costs() -> [[u32; 2]; COST as usize + 1] {
+        step_costs(4.0, 3, 40.0)
+    }
+
     /// The from-scratch search: Dijkstra from `from` over the same moves, with the agent at
     /// `agent`.
     fn fresh(cells: &[u8], nx: usize, ny: usize, goal: usize, agent: (i64, i64), from: (i64, i64)) -> Option<u32> {
-        let costs = step_costs(4.0, 3, 0.0);
+        let costs = costs();
         let moves = Moves { cells, nx: nx as i64, ny: ny as i64, goal, start: agent, escape: 2 };
         let mut dist = vec![u64::MAX; nx * ny];
         let first = from.1 as usize * nx + from.0 as usize;
@@ -716,7 +775,13 @@ mod tests {
 
     /// Marks cell `(x, y)` as the memory does (closed within one cell, the margin's bands
     /// over the next two) and tells the planner which cells changed.
-    fn mark(cells: &mut [u8], nx: usize, ny: usize, (x, y): (i64, i64), planner: &mut Replanner) {
+    fn mark(cells: &mut [u8], nx: usize, ny: usize, at: (i64, i64), planner: &mut Replanner) {
+        mark_ring(cells, nx, ny, at, false, planner);
+    }
+
+    /// [`mark`], the ring of cells around `(x, y)` [`NARROW`] instead of closed when `narrow`
+    /// (as for a body with a narrower stance).
+    fn mark_ring(cells: &mut [u8], nx: usize, ny: usize, (x, y): (i64, i64), narrow: bool, planner: &mut Replanner) {
         let k = y as usize * nx + x as usize;
         if cells[k] & MARKED != 0 {
             return;
@@ -733,7 +798,13 @@ mod tests {
                 let n = j as usize * nx + i as usize;
                 let was = cells[n];
                 let band = (4 - d).clamp(1, 3) as u8;
-                cells[n] = (was & !BAND) | (was & BAND).max(band) | if d <= 1 { HARD } else { 0 };
+                let closing = match d {
+                    0 => HARD,
+                    1 if narrow => NARROW,
+                    1 => HARD,
+                    _ => 0,
+                };
+                cells[n] = (was & !BAND) | (was & BAND).max(band) | closing;
                 if cells[n] != was {
                     planner.changed(n);
                 }
@@ -797,11 +868,12 @@ mod tests {
             let mut cells = vec![0u8; nx * ny];
             let mut goal = at(goal, nx, ny);
             let mut agent = at(start, nx, ny);
-            let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
+            let mut p = Replanner::new(costs());
             p.begin(nx, ny, goal, agent, 2);
             for op in ops {
                 match op {
-                    Op::Mark(a, b) => mark(&mut cells, nx, ny, at((a, b), nx, ny), &mut p),
+                    // Half the marks leave a narrow ring round their cell.
+                    Op::Mark(a, b) => mark_ring(&mut cells, nx, ny, at((a, b), nx, ny), a < 0.5, &mut p),
                     Op::Move(a, b) => agent = at((a, b), nx, ny),
                     Op::Grow(l, b, r, t) => {
                         let (wx, wy) = (nx + l + r, ny + b + t);
@@ -846,7 +918,7 @@ mod tests {
             }
         }
         let goal = (29, 4);
-        let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
+        let mut p = Replanner::new(costs());
         p.begin(nx, ny, goal, (2, 5), 2);
         let rows = |p: &Replanner, from: (i64, i64), heading| {
             let way = p.descend(&cells, from, usize::MAX - 1, heading);
@@ -862,7 +934,7 @@ mod tests {
         }
         // In the open, the way's straight and diagonal steps come in runs: it turns at most
         // twice, not at every cell where two steps tie.
-        let mut open = Replanner::new(step_costs(4.0, 3, 0.0));
+        let mut open = Replanner::new(costs());
         let cells = vec![0u8; nx * ny];
         open.begin(nx, ny, (27, 1), (1, 8), 2);
         for (from, heading) in [((1, 8), None), ((1, 8), Some((1, 0))), ((3, 2), Some((0, 1)))] {
@@ -885,7 +957,7 @@ mod tests {
         // afresh after each.
         let (nx, ny) = (400usize, 60usize);
         let mut cells = vec![0u8; nx * ny];
-        let mut p = Replanner::new(step_costs(4.0, 3, 0.0));
+        let mut p = Replanner::new(costs());
         let goal = (390, 30);
         p.begin(nx, ny, goal, (5, 30), 2);
         let (mut repaired, mut afresh) = (0, 0);
@@ -899,7 +971,7 @@ mod tests {
             let before = p.expanded;
             let d = p.settle(&cells, agent, agent, usize::MAX);
             repaired += p.expanded - before;
-            let mut q = Replanner::new(step_costs(4.0, 3, 0.0));
+            let mut q = Replanner::new(costs());
             q.begin(nx, ny, goal, agent, 2);
             assert_eq!(q.settle(&cells, agent, agent, usize::MAX), d);
             afresh += q.expanded;
