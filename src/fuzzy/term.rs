@@ -436,9 +436,58 @@ impl Term {
         }
     }
 
+    /// `out[k] = self.membership(xs[k])` for every `k` (as many as the shorter of the two):
+    /// the term's kind is matched once, then each kind runs its own loop of the same formula.
+    pub fn membership_column(&self, xs: &[f64], out: &mut [f64]) {
+        #[inline(always)]
+        fn each(xs: &[f64], out: &mut [f64], f: impl Fn(f64) -> f64) {
+            for (y, &x) in out.iter_mut().zip(xs) {
+                *y = f(x);
+            }
+        }
+        // One arm per kind, so that each loop inlines `membership` with its kind known.
+        macro_rules! by_kind {
+            ($($kind:ident),*) => {
+                match self {
+                    $(Term::$kind { .. } => each(xs, out, |x| self.membership_inline(x)),)*
+                    Term::Function(_) => each(xs, out, |x| self.membership(x)),
+                }
+            };
+        }
+        by_kind!(
+            Triangle,
+            Trapezoid,
+            Rectangle,
+            Ramp,
+            Gaussian,
+            GaussianProduct,
+            Bell,
+            Sigmoid,
+            SigmoidDifference,
+            SigmoidProduct,
+            SShape,
+            ZShape,
+            PiShape,
+            Spike,
+            Cosine,
+            Concave,
+            Constant,
+            Linear,
+            Discrete,
+            Arc,
+            SemiEllipse,
+            Binary
+        )
+    }
+
     /// Membership of `x` for every term that does not depend on inputs; [`Term::Linear`]
     /// evaluates with all inputs at 0 here (use [`Term::membership_with`]).
     pub fn membership(&self, x: f64) -> f64 {
+        self.membership_inline(x)
+    }
+
+    #[inline(always)]
+    fn membership_inline(&self, x: f64) -> f64 {
         match self {
             Term::Constant { value } => return *value,
             Term::Linear { .. } => return self.membership_with(x, &[]),
@@ -771,5 +820,45 @@ mod tests {
         assert!(t("SemiEllipse", &[1.0, 1.0]).check().is_err());
         assert!(t("Binary", &[1.0, 1.0]).check().is_err());
         assert!(t("Binary", &[f64::INFINITY, 1.0]).check().is_err());
+    }
+
+    #[test]
+    fn membership_column_is_membership_bit_for_bit() {
+        let terms = [
+            t("Triangle", &[-1.0, 0.5, 2.0, 0.8]),
+            t("Trapezoid", &[f64::NEG_INFINITY, -1.0, 0.0, 2.0]),
+            t("Rectangle", &[-1.0, 1.0]),
+            t("Ramp", &[2.0, -1.0]),
+            t("Gaussian", &[0.3, 0.7]),
+            t("GaussianProduct", &[-0.5, 0.4, 0.5, 0.9, 0.6]),
+            t("Bell", &[0.0, 1.2, 2.5]),
+            t("Sigmoid", &[0.2, -4.0]),
+            t("SigmoidDifference", &[-1.0, 3.0, 2.0, 1.0]),
+            t("SigmoidProduct", &[-1.0, 3.0, -2.0, 1.0]),
+            t("SShape", &[-1.0, 1.5]),
+            t("ZShape", &[-1.0, 1.5]),
+            t("PiShape", &[-2.0, -1.0, 0.5, 2.0]),
+            t("Spike", &[0.1, 2.0]),
+            t("Cosine", &[0.0, 3.0]),
+            t("Concave", &[0.5, 2.0]),
+            t("Concave", &[0.5, -2.0]),
+            t("Constant", &[0.25]),
+            t("Linear", &[2.0, 1.0]),
+            t("Discrete", &[-2.0, 0.0, 0.0, 1.0, 1.0, 0.2, 2.5, 0.9]),
+            t("Arc", &[2.0, -1.0]),
+            t("SemiEllipse", &[-1.5, 2.0]),
+            t("Binary", &[0.0, f64::NEG_INFINITY]),
+            Term::function("x^2 - 1").unwrap(),
+        ];
+        let mut xs: Vec<f64> = (0..=200).map(|i| -3.0 + 0.03 * i as f64).collect();
+        xs.extend([f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -0.0]);
+        for term in &terms {
+            let mut column = vec![0.0; xs.len()];
+            term.membership_column(&xs, &mut column);
+            for (&x, &y) in xs.iter().zip(&column) {
+                let want = term.membership(x);
+                assert!(y.to_bits() == want.to_bits() || (y.is_nan() && want.is_nan()), "{term:?} at {x}: {y} {want}");
+            }
+        }
     }
 }
