@@ -451,11 +451,7 @@ fn fold(acc: &mut [f64], b: &[f64], op: impl Fn(f64, f64) -> f64 + Copy) {
 #[inline(always)]
 fn weighted_values(kind: WeightedKind, term: &Term, degrees: &[f64], x: &[f64], row: &mut [f64], z: &mut [f64]) {
     match term {
-        _ if tsukamoto(kind, term) => {
-            for (z, &d) in z.iter_mut().zip(degrees) {
-                *z = term.tsukamoto(d).unwrap_or(f64::NAN);
-            }
-        }
+        _ if tsukamoto(kind, term) => term.tsukamoto_column(degrees, z),
         Term::Constant { value } => z.fill(*value),
         // A formula at the degree, over the row's inputs (a columnar engine's formulas read no
         // output).

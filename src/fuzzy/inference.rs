@@ -43,7 +43,9 @@
 
 use super::defuzz::{self, Weighted};
 use super::engine::{Activation, Defuzzifier, Engine, EngineError, InputVariable, OutputVariable};
-use super::lanes::{Implication, Minimum, Product, implied_into, implied_sums, max_into, max_sums, max4_into, sums};
+use super::lanes::{
+    Implication, Minimum, Product, implied_into, implied_sums, max_into, max_sums, max4_into, max4_sums, sums,
+};
 use super::norm::{Hedge, SNorm, TNorm};
 use super::rule::{Antecedent, VariableRef};
 use super::term::Term;
@@ -1033,13 +1035,23 @@ impl CompiledOutput {
             (rows, degrees)
         };
         let mu = &mut mu[lo..hi];
-        for g in 0..count.div_ceil(4) {
+        let groups = count.div_ceil(4);
+        for g in 0..groups {
             let (rows, degrees) = group(g);
-            if g == 0 {
-                max4_into::<true, I>(mu, rows, degrees);
-            } else {
-                max4_into::<false, I>(mu, rows, degrees);
-            }
+            // The last pass sums what it would write.
+            let (area, moment) = match (g == 0, g + 1 == groups) {
+                (true, false) => {
+                    max4_into::<true, I>(mu, rows, degrees);
+                    continue;
+                }
+                (false, false) => {
+                    max4_into::<false, I>(mu, rows, degrees);
+                    continue;
+                }
+                (true, true) => max4_sums::<AVX2, true, I>(mu, rows, degrees, xs),
+                (false, true) => max4_sums::<AVX2, false, I>(mu, rows, degrees, xs),
+            };
+            return moment / area;
         }
         let (area, moment) = sums::<AVX2>(mu, xs);
         moment / area

@@ -75,6 +75,54 @@ pub(super) fn max4_into<const FIRST: bool, I: Implication>(mu: &mut [f64], rows:
     }
 }
 
+/// `(Σ yᵢ, Σ yᵢ·xᵢ)` with `yᵢ` what [`max4_into`] would write to `mu[i]` (`mu` is only read,
+/// and not at all when `FIRST`): the last pass of the dense centroid with its sums.
+#[inline(always)]
+pub(super) fn max4_sums<const AVX2: bool, const FIRST: bool, I: Implication>(
+    mu: &[f64],
+    rows: [&[f64]; 4],
+    d: [f64; 4],
+    xs: &[f64],
+) -> (f64, f64) {
+    let n = mu.len().min(rows[0].len()).min(rows[1].len()).min(rows[2].len()).min(rows[3].len()).min(xs.len());
+    let (mu, xs) = (&mu[..n], &xs[..n]);
+    let rows = rows.map(|r| &r[..n]);
+    #[cfg(target_arch = "x86_64")]
+    if AVX2 {
+        // SAFETY: as in `sums`.
+        return unsafe { avx2::max4_sums::<FIRST, I>(mu, rows, d, xs) };
+    }
+    let full = n - n % LANES;
+    let mut area = [0.0; LANES];
+    let mut moment = [0.0; LANES];
+    for k in (0..full).step_by(LANES) {
+        for j in 0..LANES {
+            let y = max4_at::<FIRST, I>(mu, rows, d, k + j);
+            area[j] += y;
+            moment[j] += y * xs[k + j];
+        }
+    }
+    let (mut a, mut s) = fold(area, moment);
+    for i in full..n {
+        let y = max4_at::<FIRST, I>(mu, rows, d, i);
+        a += y;
+        s += y * xs[i];
+    }
+    (a, s)
+}
+
+/// Sample `i` of [`max4_into`]'s result.
+#[inline(always)]
+fn max4_at<const FIRST: bool, I: Implication>(mu: &[f64], rows: [&[f64]; 4], d: [f64; 4], i: usize) -> f64 {
+    let v = max4(
+        I::apply(d[0], rows[0][i]),
+        I::apply(d[1], rows[1][i]),
+        I::apply(d[2], rows[2][i]),
+        I::apply(d[3], rows[3][i]),
+    );
+    if FIRST || v > mu[i] { v } else { mu[i] }
+}
+
 #[inline(always)]
 fn max4(a: f64, b: f64, c: f64, d: f64) -> f64 {
     let ab = if a > b { a } else { b };
@@ -193,7 +241,7 @@ mod avx2 {
         _mm256_setzero_pd, _mm256_storeu_pd,
     };
 
-    use super::{Implication, LANES, fold, lane_sums_tail, max_sums_tail};
+    use super::{Implication, LANES, fold, lane_sums_tail, max_sums_tail, max4_at};
 
     #[inline]
     #[target_feature(enable = "avx2")]
@@ -252,6 +300,40 @@ mod avx2 {
             moment = _mm256_add_pd(moment, _mm256_mul_pd(y, load(x)));
         }
         lane_sums_tail(fold(lanes(area), lanes(moment)), rt, xt, |s| I::apply(d, s))
+    }
+
+    /// As the portable `max4_sums`: `_mm256_max_pd(a, b)` is `if a > b { a } else { b }`.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn max4_sums<const FIRST: bool, I: Implication>(
+        mu: &[f64],
+        rows: [&[f64]; 4],
+        d: [f64; 4],
+        xs: &[f64],
+    ) -> (f64, f64) {
+        let n = mu.len().min(rows[0].len()).min(rows[1].len()).min(rows[2].len()).min(rows[3].len()).min(xs.len());
+        let full = n - n % LANES;
+        let mc = mu[..full].as_chunks::<LANES>().0;
+        let xc = xs[..full].as_chunks::<LANES>().0;
+        let [r0, r1, r2, r3] = rows.map(|r| r[..full].as_chunks::<LANES>().0);
+        let dv = [_mm256_set1_pd(d[0]), _mm256_set1_pd(d[1]), _mm256_set1_pd(d[2]), _mm256_set1_pd(d[3])];
+        let mut area = _mm256_setzero_pd();
+        let mut moment = _mm256_setzero_pd();
+        for (k, x) in xc.iter().enumerate() {
+            let ab = _mm256_max_pd(imply::<I>(dv[0], load(&r0[k])), imply::<I>(dv[1], load(&r1[k])));
+            let cd = _mm256_max_pd(imply::<I>(dv[2], load(&r2[k])), imply::<I>(dv[3], load(&r3[k])));
+            let v = _mm256_max_pd(ab, cd);
+            let y = if FIRST { v } else { _mm256_max_pd(v, load(&mc[k])) };
+            area = _mm256_add_pd(area, y);
+            moment = _mm256_add_pd(moment, _mm256_mul_pd(y, load(x)));
+        }
+        let (mut a, mut s) = fold(lanes(area), lanes(moment));
+        for i in full..n {
+            let y = max4_at::<FIRST, I>(mu, rows, d, i);
+            a += y;
+            s += y * xs[i];
+        }
+        (a, s)
     }
 
     /// `_mm256_max_pd(m, v)` is `if m > v { m } else { v }` lane by lane, NaN included.
@@ -321,6 +403,18 @@ mod tests {
                             max_sums::<false, Minimum>(&mu, &row, &xs, d),
                         );
                         assert!(same(p, q), "{n} {seed} {d}: {p:?} {q:?}");
+                        let rows = [&row[..], &mu[..], &xs[..], &row[..]];
+                        let ds = [d, 0.5, 0.75, 0.125];
+                        let mut into = mu.clone();
+                        max4_into::<false, Minimum>(&mut into, rows, ds);
+                        let want = sums::<false>(&into, &xs);
+                        assert!(same(max4_sums::<true, false, Minimum>(&mu, rows, ds, &xs), want));
+                        assert!(same(max4_sums::<false, false, Minimum>(&mu, rows, ds, &xs), want));
+                        let mut into = mu.clone();
+                        max4_into::<true, Product>(&mut into, rows, ds);
+                        let want = sums::<false>(&into, &xs);
+                        assert!(same(max4_sums::<true, true, Product>(&mu, rows, ds, &xs), want));
+                        assert!(same(max4_sums::<false, true, Product>(&mu, rows, ds, &xs), want));
                         let (p, q) = (
                             max_sums::<true, Product>(&mu, &row, &xs, d),
                             max_sums::<false, Product>(&mu, &row, &xs, d),

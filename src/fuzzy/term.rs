@@ -438,19 +438,39 @@ impl Term {
 
     /// `out[k] = self.membership(xs[k])` for every `k` (as many as the shorter of the two):
     /// the term's kind is matched once, then each kind runs its own loop of the same formula.
+    /// On x86-64 processors with AVX2 the loops are compiled for it (chosen at run time; the
+    /// same operations, so the same bits).
     pub fn membership_column(&self, xs: &[f64], out: &mut [f64]) {
-        #[inline(always)]
-        fn each(xs: &[f64], out: &mut [f64], f: impl Fn(f64) -> f64) {
-            for (y, &x) in out.iter_mut().zip(xs) {
-                *y = f(x);
-            }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor runs AVX2 instructions, checked just above.
+            return unsafe { self.membership_column_avx2(xs, out) };
         }
-        // One arm per kind, so that each loop inlines `membership` with its kind known.
+        self.membership_column_here(xs, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn membership_column_avx2(&self, xs: &[f64], out: &mut [f64]) {
+        self.membership_column_here(xs, out)
+    }
+
+    #[inline(always)]
+    fn membership_column_here(&self, xs: &[f64], out: &mut [f64]) {
+        // One loop per kind, so that each inlines `membership` with its kind known.
         macro_rules! by_kind {
             ($($kind:ident),*) => {
                 match self {
-                    $(Term::$kind { .. } => each(xs, out, |x| self.membership_inline(x)),)*
-                    Term::Function(_) => each(xs, out, |x| self.membership(x)),
+                    $(Term::$kind { .. } => {
+                        for (y, &x) in out.iter_mut().zip(xs) {
+                            *y = self.membership_inline(x);
+                        }
+                    })*
+                    Term::Function(_) => {
+                        for (y, &x) in out.iter_mut().zip(xs) {
+                            *y = self.membership(x);
+                        }
+                    }
                 }
             };
         }
@@ -598,10 +618,50 @@ impl Term {
         height * shape
     }
 
+    /// `out[k] = self.tsukamoto(degrees[k])`, NaN for `None` (as many as the shorter of the
+    /// two): the kind matched once, as [`Term::membership_column`] (and compiled for AVX2 as
+    /// it is).
+    pub fn tsukamoto_column(&self, degrees: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor runs AVX2 instructions, checked just above.
+            return unsafe { self.tsukamoto_column_avx2(degrees, out) };
+        }
+        self.tsukamoto_column_here(degrees, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn tsukamoto_column_avx2(&self, degrees: &[f64], out: &mut [f64]) {
+        self.tsukamoto_column_here(degrees, out)
+    }
+
+    #[inline(always)]
+    fn tsukamoto_column_here(&self, degrees: &[f64], out: &mut [f64]) {
+        macro_rules! by_kind {
+            ($($kind:ident),*) => {
+                match self {
+                    $(Term::$kind { .. } => {
+                        for (z, &d) in out.iter_mut().zip(degrees) {
+                            *z = self.tsukamoto_inline(d).unwrap_or(f64::NAN);
+                        }
+                    })*
+                    _ => out.fill(f64::NAN),
+                }
+            };
+        }
+        by_kind!(Ramp, Sigmoid, SShape, ZShape, Concave, Arc)
+    }
+
     /// The crisp value whose membership equals `degree`, for the monotonic terms used by
     /// Tsukamoto inference (`Ramp`, `Sigmoid`, `SShape`, `ZShape`, `Concave`, `Arc`); `None` for
     /// terms without a unique inverse.
     pub fn tsukamoto(&self, degree: f64) -> Option<f64> {
+        self.tsukamoto_inline(degree)
+    }
+
+    #[inline(always)]
+    fn tsukamoto_inline(&self, degree: f64) -> Option<f64> {
         let w = degree;
         Some(match *self {
             Term::Ramp { start, end, height } => start + (end - start) * (w / height),
@@ -858,6 +918,13 @@ mod tests {
             for (&x, &y) in xs.iter().zip(&column) {
                 let want = term.membership(x);
                 assert!(y.to_bits() == want.to_bits() || (y.is_nan() && want.is_nan()), "{term:?} at {x}: {y} {want}");
+            }
+            let degrees: Vec<f64> = (0..=100).map(|i| 0.01 * i as f64).chain([f64::NAN, -0.5, 1.5]).collect();
+            let mut column = vec![0.0; degrees.len()];
+            term.tsukamoto_column(&degrees, &mut column);
+            for (&d, &z) in degrees.iter().zip(&column) {
+                let want = term.tsukamoto(d).unwrap_or(f64::NAN);
+                assert!(z.to_bits() == want.to_bits() || (z.is_nan() && want.is_nan()), "{term:?} at {d}: {z} {want}");
             }
         }
     }
