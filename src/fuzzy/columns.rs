@@ -19,9 +19,12 @@
 //!   without hedges reads the rule's degrees in place, a constant term is folded without a
 //!   column of its values, and the results are finished in one loop unless the output keeps
 //!   its previous value;
-//! - every other output (integral ones, weighted ones with repeated terms) is finished row by
-//!   row from the degrees of the chunk, through the same recording and defuzzification code
-//!   as the scalar evaluation.
+//! - a Takagi-Sugeno output of constant and linear terms some of which are concluded twice
+//!   gets its linear terms' values column by column, then merges and folds its activations
+//!   row by row as the scalar evaluation records and folds them;
+//! - every other output (integral ones, other weighted ones with repeated terms) is finished
+//!   row by row from the degrees of the chunk, through the same recording and defuzzification
+//!   code as the scalar evaluation.
 //!
 //! Engines outside that case run [`Inference::process`] row by row. Rows are evaluated in
 //! order, so an output that keeps its previous value (lock-previous) sees the row before.
@@ -48,6 +51,9 @@ struct Plan {
     /// Per output, when it is folded column by column: its `(rule, conclusion)` activations in
     /// the order the rules record them.
     weighted: Vec<Option<Vec<(usize, usize)>>>,
+    /// Per output, when it is a Takagi-Sugeno output of constant and linear terms some of which
+    /// are concluded more than once: the same order, for [`Inference::merged_rows`].
+    merged: Vec<Option<Vec<(usize, usize)>>>,
 }
 
 /// One chunk's work: rows `span` of `inputs` into `outputs`.
@@ -72,6 +78,10 @@ struct Scratch {
     weights: Vec<f64>,
     hedged: Vec<f64>,
     z: Vec<f64>,
+    /// A merged output's linear terms' values, one column per term.
+    zs: Vec<f64>,
+    /// A merged output's activated terms in one row, `(term, degree)`.
+    list: Vec<(usize, f64)>,
 }
 
 impl Plan {
@@ -81,17 +91,17 @@ impl Plan {
         let columnar = blocks.iter().all(|b| !b.enabled || b.activation == Activation::General)
             && props.iter().all(|p| matches!(p.source, VariableRef::Input(_)))
             && !engine.formulas_read_outputs();
-        let weighted = engine
+        let (weighted, merged) = engine
             .outputs
             .iter()
             .enumerate()
             .map(|(o, var)| {
-                let folds = matches!(
-                    var.defuzzifier,
-                    Some(Defuzzifier::WeightedAverage { .. } | Defuzzifier::WeightedSum { .. })
-                );
-                if !columnar || !var.enabled || !folds {
-                    return None;
+                let Some(Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind }) = var.defuzzifier
+                else {
+                    return (None, None);
+                };
+                if !columnar || !var.enabled {
+                    return (None, None);
                 }
                 let order: Vec<(usize, usize)> = blocks
                     .iter()
@@ -103,10 +113,18 @@ impl Plan {
                 let once = order.iter().enumerate().all(|(k, &(_, c))| {
                     order[..k].iter().all(|&(_, earlier)| conclusions[earlier].term != conclusions[c].term)
                 });
-                once.then_some(order)
+                let values = order.iter().all(|&(_, c)| {
+                    let term = &var.terms[conclusions[c].term].term;
+                    matches!(term, Term::Constant { .. } | Term::Linear { .. }) && !tsukamoto(kind, term)
+                });
+                match (once, values) {
+                    (true, _) => (Some(order), None),
+                    (false, true) => (None, Some(order)),
+                    (false, false) => (None, None),
+                }
             })
-            .collect();
-        Plan { columnar, weighted }
+            .unzip();
+        Plan { columnar, weighted, merged }
     }
 }
 
@@ -130,7 +148,9 @@ impl Inference {
             }
             return;
         }
-        let mut scratch = Scratch::new(self.inputs.len(), self.props.len(), self.rules.len());
+        let terms = plan.merged.iter().zip(&self.engine.outputs).filter(|(m, _)| m.is_some());
+        let terms = terms.map(|(_, var)| var.terms.len()).max().unwrap_or(0);
+        let mut scratch = Scratch::new(self.inputs.len(), self.props.len(), self.rules.len(), terms);
         for start in (0..rows).step_by(CHUNK) {
             let span = start..(start + CHUNK).min(rows);
             self.chunk(Chunk { plan: &plan, scratch: &mut scratch, inputs, outputs, span });
@@ -281,13 +301,20 @@ impl Inference {
                 self.outputs[o] = previous;
             }
         }
+        for (o, order) in plan.merged.iter().enumerate() {
+            if let Some(order) = order {
+                self.merged_rows(o, order, s, &mut outputs[o][span.clone()]);
+            }
+        }
         for (o, var) in self.engine.outputs.iter().enumerate() {
             if !var.enabled {
                 outputs[o][span.clone()].fill(self.outputs[o]);
             }
         }
         // The other outputs, row by row from the degrees.
-        let by_row = |o: usize| plan.weighted.get(o).is_none_or(Option::is_none);
+        let by_row = |o: usize| {
+            plan.weighted.get(o).is_none_or(Option::is_none) && plan.merged.get(o).is_none_or(Option::is_none)
+        };
         let rows_needed = self.engine.outputs.iter().enumerate().any(|(o, v)| v.enabled && by_row(o));
         // The state after the chunk is its last row's: inputs and degrees always, the rest
         // when some output is finished row by row.
@@ -324,8 +351,63 @@ impl Inference {
     }
 }
 
+impl Inference {
+    /// Output `o` (enabled, weighted, of constant and linear Takagi-Sugeno terms) on the
+    /// chunk's rows from its degrees: each term's values column by column, then row by row the
+    /// activations recorded and folded as the scalar evaluation records and folds them — a term
+    /// concluded again merged with the output's aggregation (a sum without one) in the order
+    /// of its first activation, then `Σ degree · z` and `Σ degree` in that order.
+    fn merged_rows(&mut self, o: usize, order: &[(usize, usize)], s: &mut Scratch, column: &mut [f64]) {
+        let var = &self.engine.outputs[o];
+        let Some(d @ (Defuzzifier::WeightedAverage { kind } | Defuzzifier::WeightedSum { kind })) = var.defuzzifier
+        else {
+            return;
+        };
+        let n = column.len();
+        for (t, named) in var.terms.iter().enumerate() {
+            if let Term::Linear { .. } = named.term {
+                let z = &mut s.zs[t * CHUNK..t * CHUNK + n];
+                weighted_values(kind, &named.term, &[], &s.x, &mut self.inputs, z);
+            }
+        }
+        let aggregation = var.aggregation.unwrap_or(SNorm::UnboundedSum);
+        let sum_only = matches!(d, Defuzzifier::WeightedSum { .. });
+        let mut previous = self.outputs[o];
+        for (k, y) in column.iter_mut().enumerate() {
+            s.list.clear();
+            for &(i, c) in order {
+                let degree = s.degrees[i * CHUNK + k];
+                if !(degree > FIRING_THRESHOLD) {
+                    continue;
+                }
+                let conclusion = &self.conclusions[c];
+                let h = apply_hedges(&conclusion.hedges, degree);
+                match s.list.iter_mut().find(|e| e.0 == conclusion.term) {
+                    Some(e) => e.1 = aggregation.apply(e.1, h),
+                    None => s.list.push((conclusion.term, h)),
+                }
+            }
+            let value = (!s.list.is_empty()).then(|| {
+                let (mut sum, mut weights) = (0.0, 0.0);
+                for &(t, degree) in &s.list {
+                    let z = match var.terms[t].term {
+                        Term::Constant { value } => value,
+                        _ => s.zs[t * CHUNK + k],
+                    };
+                    sum += degree * z;
+                    weights += degree;
+                }
+                defuzz::weighted_result((sum, weights), sum_only)
+            });
+            previous = finish_output(var, value, previous);
+            *y = previous;
+        }
+        self.outputs[o] = previous;
+    }
+}
+
 impl Scratch {
-    fn new(inputs: usize, props: usize, rules: usize) -> Scratch {
+    fn new(inputs: usize, props: usize, rules: usize, terms: usize) -> Scratch {
         let column = || vec![0.0; CHUNK];
         Scratch {
             x: vec![0.0; inputs * CHUNK],
@@ -335,6 +417,8 @@ impl Scratch {
             weights: column(),
             hedged: column(),
             z: column(),
+            zs: vec![0.0; terms * CHUNK],
+            list: Vec::with_capacity(terms),
         }
     }
 }
