@@ -102,11 +102,24 @@ pub(super) fn max4_sums<const AVX2: bool, const FIRST: bool, I: Implication>(
             moment[j] += y * xs[k + j];
         }
     }
-    let (mut a, mut s) = fold(area, moment);
-    for i in full..n {
+    max4_sums_tail::<FIRST, I>(fold(area, moment), mu, rows, d, xs, full)
+}
+
+/// The samples `from..` of [`max4_sums`] (past the last group of four), added one by one to
+/// `(a, s)`.
+#[inline(always)]
+fn max4_sums_tail<const FIRST: bool, I: Implication>(
+    (mut a, mut s): (f64, f64),
+    mu: &[f64],
+    rows: [&[f64]; 4],
+    d: [f64; 4],
+    xs: &[f64],
+    from: usize,
+) -> (f64, f64) {
+    for (i, &x) in xs.iter().enumerate().skip(from) {
         let y = max4_at::<FIRST, I>(mu, rows, d, i);
         a += y;
-        s += y * xs[i];
+        s += y * x;
     }
     (a, s)
 }
@@ -241,7 +254,7 @@ mod avx2 {
         _mm256_setzero_pd, _mm256_storeu_pd,
     };
 
-    use super::{Implication, LANES, fold, lane_sums_tail, max_sums_tail, max4_at};
+    use super::{Implication, LANES, fold, lane_sums_tail, max_sums_tail, max4_sums_tail};
 
     #[inline]
     #[target_feature(enable = "avx2")]
@@ -327,13 +340,7 @@ mod avx2 {
             area = _mm256_add_pd(area, y);
             moment = _mm256_add_pd(moment, _mm256_mul_pd(y, load(x)));
         }
-        let (mut a, mut s) = fold(lanes(area), lanes(moment));
-        for i in full..n {
-            let y = max4_at::<FIRST, I>(mu, rows, d, i);
-            a += y;
-            s += y * xs[i];
-        }
-        (a, s)
+        max4_sums_tail::<FIRST, I>(fold(lanes(area), lanes(moment)), mu, rows, d, &xs[..n], full)
     }
 
     /// `_mm256_max_pd(m, v)` is `if m > v { m } else { v }` lane by lane, NaN included.
