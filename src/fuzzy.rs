@@ -12,6 +12,7 @@ pub mod engine;
 pub mod fll;
 pub mod formula;
 pub mod inference;
+mod lanes;
 pub mod network;
 pub mod norm;
 pub mod reference;

@@ -481,6 +481,71 @@ fn sugeno_engine(seed: u64) -> Engine {
     e
 }
 
+/// A random Takagi-Sugeno engine of constant and linear output terms that several rules
+/// conclude (so that [`Inference::process_columns`] merges their activations row by row), with
+/// hedges on the conclusions, weights, and any aggregation or none.
+fn merged_engine(seed: u64) -> Engine {
+    let rng = &mut stream(seed, 4, 0);
+    let mut e = Engine::new("merged");
+    let n_in = 1 + (unit(rng) * 3.0) as usize;
+    let names: Vec<String> = (0..n_in).map(|i| format!("in{i}")).collect();
+    for i in 0..n_in {
+        let mut v = random_input(rng, i, 4.0, &names);
+        v.lock_range = unit(rng) < 0.3;
+        e.inputs.push(v);
+    }
+    let mut block = RuleBlock::mamdani("rules");
+    block.conjunction = Some(pick(rng, &TNorm::ALL));
+    block.disjunction = Some(pick(rng, &SNorm::ALL));
+    e.rule_blocks.push(block);
+    let terms = 1 + (unit(rng) * 4.0) as usize;
+    for o in 0..1 + (unit(rng) * 2.0) as usize {
+        let mut v = OutputVariable::new(&format!("out{o}"), -10.0, 10.0);
+        for t in 0..terms {
+            let term = if unit(rng) < 0.4 {
+                Term::Constant { value: uniform(rng, -10.0, 10.0) }
+            } else {
+                let n = n_in + usize::from(unit(rng) < 0.7);
+                Term::Linear { coefficients: (0..n).map(|_| uniform(rng, -2.0, 2.0)).collect() }
+            };
+            v = v.term(&format!("t{t}"), term);
+        }
+        v.defuzzifier = Some(pick(
+            rng,
+            &[
+                Defuzzifier::WeightedAverage { kind: WeightedKind::TakagiSugeno },
+                Defuzzifier::WeightedSum { kind: WeightedKind::Automatic },
+            ],
+        ));
+        v.aggregation = if unit(rng) < 0.5 { None } else { Some(pick(rng, &SNorm::ALL)) };
+        v.default_value = if unit(rng) < 0.5 { f64::NAN } else { uniform(rng, -10.0, 10.0) };
+        v.lock_previous = unit(rng) < 0.3;
+        v.lock_range = unit(rng) < 0.3;
+        e.outputs.push(v);
+    }
+    let hedges = ["", "", "", "not ", "very ", "somewhat ", "extremely ", "seldom "];
+    for _ in 0..2 + (unit(rng) * 12.0) as usize {
+        let mut text = String::from("if ");
+        for p in 0..1 + (unit(rng) * 3.0) as usize {
+            if p > 0 {
+                text.push_str(pick(rng, &[" and ", " or "]));
+            }
+            let i = (unit(rng) * n_in as f64) as usize;
+            let t = (unit(rng) * e.inputs[i].terms.len() as f64) as usize;
+            text.push_str(&format!("in{i} is {}t{t}", pick(rng, &hedges)));
+        }
+        let conclusions: Vec<String> = (0..e.outputs.len())
+            .map(|o| format!("out{o} is {}t{}", pick(rng, &hedges), (unit(rng) * terms as f64) as usize))
+            .collect();
+        text.push_str(&format!(" then {}", conclusions.join(" and ")));
+        if unit(rng) < 0.3 {
+            text.push_str(&format!(" with {}", uniform(rng, 0.0, 1.0)));
+        }
+        e.add_rule(0, &text).unwrap_or_else(|err| panic!("{text}: {err}"));
+    }
+    e
+}
+
 /// `rows` rows of inputs for `engine` from `seed`: mostly within the ranges, some outside,
 /// some NaN.
 fn input_columns(engine: &Engine, seed: u64, rows: usize) -> Vec<Vec<f64>> {
@@ -540,6 +605,7 @@ proptest! {
         assert_columns_equal_rows(&random_engine(seed), seed, rows);
         assert_columns_equal_rows(&mamdani_engine(seed), seed, rows);
         assert_columns_equal_rows(&sugeno_engine(seed), seed, rows);
+        assert_columns_equal_rows(&merged_engine(seed), seed, rows);
     }
 }
 

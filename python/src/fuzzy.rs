@@ -13,8 +13,13 @@ use strider::fuzzy::{Engine as FuzzyEngine, Network, fll};
 
 use crate::{StriderError, error};
 
-/// Inputs per parallel piece of a stateless engine's evaluation.
+/// Fewest inputs per parallel piece of a stateless engine's evaluation.
 const PIECE: usize = 4096;
+
+/// Pieces per thread of the pool: enough that rayon evens out threads that finish early (rows
+/// cost more where more rules fire), few enough that what each piece costs besides its rows (a
+/// copy of the network, scratch columns) stays small.
+const PIECES_PER_THREAD: usize = 4;
 
 /// A fuzzy engine, or several layered into one network.
 #[pyclass(module = "strider._strider")]
@@ -41,26 +46,28 @@ impl Engine {
 }
 
 /// Evaluates `network` on the rows of `inputs` (one column per network input) into `outputs`
-/// (one column per output, all of the same length): pieces of [`PIECE`] rows in parallel, each
-/// on its own copy of the network, or in order on `network` itself when `stateful`.
+/// (one column per output, all of the same length): [`PIECES_PER_THREAD`] pieces per thread
+/// (of [`PIECE`] rows at least) in parallel, each on its own copy of the network, or in order on
+/// `network` itself when `stateful`.
 fn evaluate(network: &mut Network, inputs: &[&[f64]], outputs: &mut [&mut [f64]], stateful: bool) {
     let rows = outputs.first().map_or(0, |c| c.len());
     if stateful || rows <= PIECE {
         network.process_columns(inputs, outputs);
         return;
     }
+    let piece = PIECE.max(rows.div_ceil(PIECES_PER_THREAD * rayon::current_num_threads()));
     // Rows are independent: each piece gets the same rows of every column.
-    let mut pieces: Vec<Vec<&mut [f64]>> = (0..rows.div_ceil(PIECE)).map(|_| Vec::new()).collect();
+    let mut pieces: Vec<Vec<&mut [f64]>> = (0..rows.div_ceil(piece)).map(|_| Vec::new()).collect();
     for column in outputs.iter_mut() {
-        for (piece, part) in pieces.iter_mut().zip(column.chunks_mut(PIECE)) {
-            piece.push(part);
+        for (parts, part) in pieces.iter_mut().zip(column.chunks_mut(piece)) {
+            parts.push(part);
         }
     }
     let template = &*network;
     pieces.into_par_iter().enumerate().for_each_init(
         || template.clone(),
         |network, (p, mut outs)| {
-            let span = p * PIECE..((p + 1) * PIECE).min(rows);
+            let span = p * piece..((p + 1) * piece).min(rows);
             let ins: Vec<&[f64]> = inputs.iter().map(|c| c.get(span.clone()).unwrap_or(&[])).collect();
             network.process_columns(&ins, &mut outs);
         },

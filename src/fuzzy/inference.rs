@@ -26,12 +26,13 @@
 //! that term are read again; terms that overlap heavily (their supports add up to at least
 //! twice the span per four terms) are read four at a time over the whole span (zero outside
 //! their support), one pass per four terms, then summed. A single term is summed straight from
-//! its samples. Sums run in four independent lanes the compiler keeps in vector registers, so
+//! its samples. Sums run in four independent lanes (one vector register, see `lanes`), so
 //! they differ from the sequential sum only by rounding.
 //!
 //! On x86-64 processors with AVX2, aggregation and defuzzification run a copy of the same code
-//! compiled for AVX2 (four doubles per vector instruction), chosen at run time; Rust never
-//! fuses or reorders floating-point operations, so both copies give the same bits.
+//! compiled for AVX2 (four doubles per vector instruction), chosen at run time, whose sums keep
+//! their four lanes in one AVX2 register explicitly; Rust never fuses or reorders
+//! floating-point operations, so both copies give the same bits.
 //!
 //! Semantics follow fuzzylite: a rule's degree is `weight · antecedent`; a rule fires when
 //! its degree is positive (NaN never fires); an output on which no rule fired, or whose
@@ -42,6 +43,9 @@
 
 use super::defuzz::{self, Weighted};
 use super::engine::{Activation, Defuzzifier, Engine, EngineError, InputVariable, OutputVariable};
+use super::lanes::{
+    Implication, Minimum, Product, implied_into, implied_sums, max_into, max_sums, max4_into, max4_sums, sums,
+};
 use super::norm::{Hedge, SNorm, TNorm};
 use super::rule::{Antecedent, VariableRef};
 use super::term::Term;
@@ -887,17 +891,17 @@ impl CompiledOutput {
             // SAFETY: the processor runs AVX2 instructions, checked just above.
             return unsafe { self.aggregate_and_defuzzify_avx2(d, var) };
         }
-        self.aggregate_and_defuzzify_here(d, var)
+        self.aggregate_and_defuzzify_here::<false>(d, var)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn aggregate_and_defuzzify_avx2(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
-        self.aggregate_and_defuzzify_here(d, var)
+        self.aggregate_and_defuzzify_here::<true>(d, var)
     }
 
     #[inline(always)]
-    fn aggregate_and_defuzzify_here(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
+    fn aggregate_and_defuzzify_here<const AVX2: bool>(&mut self, d: &Defuzzifier, var: &OutputVariable) -> f64 {
         if self.unbounded || self.wild {
             return self.aggregate_in_firing_order(d, var);
         }
@@ -923,10 +927,10 @@ impl CompiledOutput {
         if self.plain && matches!(d, Defuzzifier::Centroid { .. }) && aggregation == SNorm::Maximum {
             let same = |imp: TNorm| self.activated.iter().all(|a| a.1 == imp);
             if same(TNorm::Minimum) {
-                return self.centroid_of_maximum(lo, hi, |d, s| if d < s { d } else { s });
+                return self.centroid_of_maximum::<AVX2, Minimum>(lo, hi);
             }
             if same(TNorm::AlgebraicProduct) {
-                return self.centroid_of_maximum(lo, hi, |d, s| d * s);
+                return self.centroid_of_maximum::<AVX2, Product>(lo, hi);
             }
         }
         let whole = !matches!(d, Defuzzifier::Centroid { .. });
@@ -940,8 +944,8 @@ impl CompiledOutput {
             let row = &self.samples[term * n + l..term * n + h];
             let mu = &mut self.mu[l..h];
             match (implication, aggregation) {
-                (TNorm::Minimum, SNorm::Maximum) => max_into(mu, row, d, |d, s| if d < s { d } else { s }),
-                (TNorm::AlgebraicProduct, SNorm::Maximum) => max_into(mu, row, d, |d, s| d * s),
+                (TNorm::Minimum, SNorm::Maximum) => max_into::<Minimum>(mu, row, d),
+                (TNorm::AlgebraicProduct, SNorm::Maximum) => max_into::<Product>(mu, row, d),
                 (imp, agg) => {
                     // The implied term first, then folded in: two loops, each with its norm
                     // fixed, so that both run in vector registers.
@@ -954,7 +958,7 @@ impl CompiledOutput {
         if whole {
             defuzz::integral(d, var.minimum, var.maximum, &self.mu)
         } else {
-            let (area, moment) = sums(&self.mu[lo..hi], &self.xs[lo..hi]);
+            let (area, moment) = sums::<AVX2>(&self.mu[lo..hi], &self.xs[lo..hi]);
             moment / area
         }
     }
@@ -969,7 +973,7 @@ impl CompiledOutput {
     /// the terms are instead taken four at a time over `lo..hi` (zero outside their support),
     /// one pass per four terms, the last one summing: see [`CompiledOutput::centroid_dense`].
     #[inline(always)]
-    fn centroid_of_maximum(&mut self, lo: usize, hi: usize, imp: impl Fn(f64, f64) -> f64 + Copy) -> f64 {
+    fn centroid_of_maximum<const AVX2: bool, I: Implication>(&mut self, lo: usize, hi: usize) -> f64 {
         let n = self.resolution;
         let count = self.activated.len();
         let span = |t: usize| self.support[t].1 - self.support[t].0;
@@ -977,7 +981,7 @@ impl CompiledOutput {
         // one term at a time, six per sample of the span per four terms at once.
         let covered: usize = self.activated.iter().map(|a| span(a.0)).sum();
         if 2 * count.div_ceil(4) * (hi - lo) <= covered {
-            return self.centroid_dense(lo, hi, imp);
+            return self.centroid_dense::<AVX2, I>(lo, hi);
         }
         let Some(widest) = (0..count).max_by_key(|&k| span(self.activated[k].0)) else {
             return f64::NAN;
@@ -992,30 +996,28 @@ impl CompiledOutput {
         let (term, _, d) = self.activated[widest];
         let (l, h, first) = row(term);
         let Some(last) = last.filter(|&k| span(self.activated[k].0) > 0) else {
-            let (area, moment) = implied_sums(first, &self.xs[l..h], d, imp);
+            let (area, moment) = implied_sums::<AVX2, I>(first, &self.xs[l..h], d);
             return moment / area;
         };
         self.mu[lo..l].fill(0.0);
-        for (m, &s) in self.mu[l..h].iter_mut().zip(first) {
-            *m = imp(d, s);
-        }
+        implied_into::<I>(&mut self.mu[l..h], first, d);
         self.mu[h..hi].fill(0.0);
         for k in (0..count).filter(|&k| k != widest && k != last) {
             let (term, _, d) = self.activated[k];
             let (l, h, r) = row(term);
-            max_into(&mut self.mu[l..h], r, d, imp);
+            max_into::<I>(&mut self.mu[l..h], r, d);
         }
         let (term, _, d) = self.activated[last];
         let (l, h, r) = row(term);
-        let (a0, m0) = sums(&self.mu[lo..l], &self.xs[lo..l]);
-        let (a1, m1) = max_sums(&self.mu[l..h], r, &self.xs[l..h], d, imp);
-        let (a2, m2) = sums(&self.mu[h..hi], &self.xs[h..hi]);
+        let (a0, m0) = sums::<AVX2>(&self.mu[lo..l], &self.xs[lo..l]);
+        let (a1, m1) = max_sums::<AVX2, I>(&self.mu[l..h], r, &self.xs[l..h], d);
+        let (a2, m2) = sums::<AVX2>(&self.mu[h..hi], &self.xs[h..hi]);
         (m0 + m1 + m2) / (a0 + a1 + a2)
     }
     /// Centroid of the maximum of the implied activated terms over `lo..hi`, four terms per
     /// pass over the span (absent ones as zero rows at degree 0).
     #[inline(always)]
-    fn centroid_dense(&mut self, lo: usize, hi: usize, imp: impl Fn(f64, f64) -> f64 + Copy) -> f64 {
+    fn centroid_dense<const AVX2: bool, I: Implication>(&mut self, lo: usize, hi: usize) -> f64 {
         let CompiledOutput { samples, resolution: n, mu, activated, xs, zeros, .. } = self;
         let n = *n;
         let span = hi - lo;
@@ -1033,15 +1035,25 @@ impl CompiledOutput {
             (rows, degrees)
         };
         let mu = &mut mu[lo..hi];
-        for g in 0..count.div_ceil(4) {
+        let groups = count.div_ceil(4);
+        for g in 0..groups {
             let (rows, degrees) = group(g);
-            if g == 0 {
-                max4_into::<true>(mu, rows, degrees, imp);
-            } else {
-                max4_into::<false>(mu, rows, degrees, imp);
-            }
+            // The last pass sums what it would write.
+            let (area, moment) = match (g == 0, g + 1 == groups) {
+                (true, false) => {
+                    max4_into::<true, I>(mu, rows, degrees);
+                    continue;
+                }
+                (false, false) => {
+                    max4_into::<false, I>(mu, rows, degrees);
+                    continue;
+                }
+                (true, true) => max4_sums::<AVX2, true, I>(mu, rows, degrees, xs),
+                (false, true) => max4_sums::<AVX2, false, I>(mu, rows, degrees, xs),
+            };
+            return moment / area;
         }
-        let (area, moment) = sums(mu, xs);
+        let (area, moment) = sums::<AVX2>(mu, xs);
         moment / area
     }
 }
@@ -1086,106 +1098,6 @@ fn aggregate_into(mu: &mut [f64], ys: &[f64], agg: SNorm) {
         SNorm::NormalizedSum => each(mu, ys, |m, y| SNorm::NormalizedSum.apply(m, y)),
         SNorm::UnboundedSum => each(mu, ys, |m, y| SNorm::UnboundedSum.apply(m, y)),
     }
-}
-
-/// `mu[i] = max(mu[i], imp(d₀, r₀[i]), …, imp(d₃, r₃[i]))`, or without `mu[i]` when `FIRST`.
-#[inline(always)]
-fn max4_into<const FIRST: bool>(mu: &mut [f64], rows: [&[f64]; 4], d: [f64; 4], imp: impl Fn(f64, f64) -> f64) {
-    let n = mu.len().min(rows[0].len()).min(rows[1].len()).min(rows[2].len()).min(rows[3].len());
-    let mu = &mut mu[..n];
-    let [r0, r1, r2, r3] = rows.map(|r| &r[..n]);
-    for ((((m, &s0), &s1), &s2), &s3) in mu.iter_mut().zip(r0).zip(r1).zip(r2).zip(r3) {
-        let y = max4(imp(d[0], s0), imp(d[1], s1), imp(d[2], s2), imp(d[3], s3));
-        *m = if FIRST || y > *m { y } else { *m };
-    }
-}
-
-#[inline(always)]
-fn max4(a: f64, b: f64, c: f64, d: f64) -> f64 {
-    let ab = if a > b { a } else { b };
-    let cd = if c > d { c } else { d };
-    if ab > cd { ab } else { cd }
-}
-
-/// Lanes of the sums below: independent partial sums the compiler keeps in vector registers.
-const LANES: usize = 4;
-
-/// `mu[i] = max(mu[i], imp(d, row[i]))`.
-#[inline(always)]
-fn max_into(mu: &mut [f64], row: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) {
-    for (m, &s) in mu.iter_mut().zip(row) {
-        let v = imp(d, s);
-        *m = if *m > v { *m } else { v };
-    }
-}
-
-/// `(Σ yᵢ, Σ yᵢ·xᵢ)`.
-#[inline(always)]
-fn sums(ys: &[f64], xs: &[f64]) -> (f64, f64) {
-    lane_sums(ys, xs, |y| y)
-}
-
-/// `(Σ yᵢ, Σ yᵢ·xᵢ)` with `yᵢ = imp(d, sᵢ)`.
-#[inline(always)]
-fn implied_sums(row: &[f64], xs: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) -> (f64, f64) {
-    lane_sums(row, xs, |s| imp(d, s))
-}
-
-/// `(Σ yᵢ, Σ yᵢ·xᵢ)` with `yᵢ = max(muᵢ, imp(d, sᵢ))`.
-#[inline(always)]
-fn max_sums(mu: &[f64], row: &[f64], xs: &[f64], d: f64, imp: impl Fn(f64, f64) -> f64) -> (f64, f64) {
-    let n = mu.len().min(row.len()).min(xs.len());
-    let (mu, row, xs) = (&mu[..n], &row[..n], &xs[..n]);
-    let (mc, mt) = mu.as_chunks::<LANES>();
-    let (rc, rt) = row.as_chunks::<LANES>();
-    let (xc, xt) = xs.as_chunks::<LANES>();
-    let mut area = [0.0; LANES];
-    let mut moment = [0.0; LANES];
-    for ((m, r), x) in mc.iter().zip(rc).zip(xc) {
-        for j in 0..LANES {
-            let v = imp(d, r[j]);
-            let y = if m[j] > v { m[j] } else { v };
-            area[j] += y;
-            moment[j] += y * x[j];
-        }
-    }
-    let (mut a, mut s) = fold(area, moment);
-    for ((&m, &r), &x) in mt.iter().zip(rt).zip(xt) {
-        let v = imp(d, r);
-        let y = if m > v { m } else { v };
-        a += y;
-        s += y * x;
-    }
-    (a, s)
-}
-
-#[inline(always)]
-fn lane_sums(ys: &[f64], xs: &[f64], f: impl Fn(f64) -> f64) -> (f64, f64) {
-    let n = ys.len().min(xs.len());
-    let (ys, xs) = (&ys[..n], &xs[..n]);
-    let (yc, yt) = ys.as_chunks::<LANES>();
-    let (xc, xt) = xs.as_chunks::<LANES>();
-    let mut area = [0.0; LANES];
-    let mut moment = [0.0; LANES];
-    for (y, x) in yc.iter().zip(xc) {
-        for j in 0..LANES {
-            let v = f(y[j]);
-            area[j] += v;
-            moment[j] += v * x[j];
-        }
-    }
-    let (mut a, mut s) = fold(area, moment);
-    for (&y, &x) in yt.iter().zip(xt) {
-        let v = f(y);
-        a += v;
-        s += v * x;
-    }
-    (a, s)
-}
-
-#[inline(always)]
-fn fold(area: [f64; LANES], moment: [f64; LANES]) -> (f64, f64) {
-    ((area[0] + area[1]) + (area[2] + area[3]), (moment[0] + moment[1]) + (moment[2] + moment[3]))
 }
 
 impl CompiledOutput {
