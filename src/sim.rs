@@ -638,13 +638,13 @@ const SIDE_ON_START_M: f64 = 1.0;
 /// See [`SIDE_ON_START_M`], seconds.
 const SIDE_ON_STOP_S: f64 = 0.6;
 
-/// ... when the agent stands off the way through its middle by no more than this share of its
-/// distance along it (the side steps must lead through the gap within 20°) and
-/// [`SIDE_ON_OFF_M`].
-const SIDE_ON_OFF_SHARE: f64 = 0.3;
+/// ... when the spot where it comes to a stand lies off the way through the gap's middle by no
+/// more than this share of its distance along it and [`SIDE_ON_OFF_M`] (the manoeuvre side-steps
+/// onto the way from there; farther off, the walking line-up brings it nearer first).
+const SIDE_ON_OFF_SHARE: f64 = 0.6;
 
 /// See [`SIDE_ON_OFF_SHARE`], metres.
-const SIDE_ON_OFF_M: f64 = 0.05;
+const SIDE_ON_OFF_M: f64 = 0.3;
 
 /// A gap narrower than the walking disc and this much is passed side-on even where the
 /// remembered way through it is open to the walking disc, metres.

@@ -61,6 +61,10 @@ const ALIGN_DONE_COS: f64 = 0.985;
 /// side step); steps back then make the slant small enough.
 const ALIGN_M: f64 = 0.15;
 
+/// A side step onto the way is taken only when it brings the character at least this much
+/// nearer it, metres.
+const ALIGN_GAIN_M: f64 = 0.05;
+
 /// Depth of the gap the side-on capsule's slanted passage is checked against, metres (a wall's).
 const DEPTH_M: f64 = 0.2;
 
@@ -254,17 +258,34 @@ impl SideOn {
                     if align && lined_up && (standing || mid) {
                         // Facing the gap: a side step toward the way through its middle, or a
                         // step back from the gap once near that way.
-                        let toward: i8 = if aside.abs() <= ALIGN_M {
+                        let mut toward: i8 = if aside.abs() <= ALIGN_M {
                             2
                         } else if aside < 0.0 {
                             1
                         } else {
                             -1
                         };
-                        let pick = (0..cands.len()).find(|&a| {
-                            let iv = cands[a].interval;
-                            ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == toward }
-                        });
+                        let find = |toward: i8| {
+                            (0..cands.len()).find(|&a| {
+                                let iv = cands[a].interval;
+                                ok(a)
+                                    && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == toward }
+                            })
+                        };
+                        let mut pick = find(toward);
+                        // A side step that would leave it hardly nearer the way (it overshoots)
+                        // is not taken: it steps back instead. The step's first interval moves
+                        // the root about half of the step.
+                        if let Some(a) = pick.filter(|_| !mid && toward != 2) {
+                            path.clear();
+                            at.path(db, Choice::from(a), path);
+                            let half =
+                                path.last().map_or(0.0, |&q| self.gap.through.perp_dot(q - self.gap.centre) - aside);
+                            if (aside + 2.0 * half).abs() > aside.abs() - ALIGN_GAIN_M {
+                                toward = 2;
+                                pick = find(toward);
+                            }
+                        }
                         let clear = pick.is_some_and(|a| {
                             path.clear();
                             at.path(db, Choice::from(a), path);
