@@ -595,10 +595,13 @@ impl Chooser for SideOnChooser<'_, '_> {
         let mut room = |pts: &[DVec2], stance: Stance| -> f64 {
             let Some(&first) = pts.first() else { return 0.0 };
             match stance {
-                Stance::Fits(None) => space.clearance(first, radius + 1.0) - radius - super::side_on::KEEP_M,
-                Stance::Fits(Some(yaw)) => {
+                Stance::Fits(yaw) => {
                     let keep = super::side_on::KEEP_M;
-                    Footprint::side_on(Ground { x: first.x, y: first.y, yaw }).room(space, keep + 1.0) - keep
+                    let fp = match yaw {
+                        Some(yaw) => Footprint::side_on(Ground { x: first.x, y: first.y, yaw }),
+                        None => Footprint::Disc { centre: first, radius },
+                    };
+                    fp.room(space, keep + 1.0) - keep
                 }
                 Stance::Walking => {
                     let want = radius + KEEP_ROOM_M;
