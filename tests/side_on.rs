@@ -144,6 +144,8 @@ fn navigation_takes_the_character_side_on_through_slots_narrower_than_its_should
         (0.50, 0.15, 0.8, DVec2::new(-3.0, -1.5), 0.6, DVec2::new(3.0, 1.5)),
         (0.55, 0.25, -1.0, DVec2::new(-2.5, 1.8), -1.2, DVec2::new(2.5, -2.0)),
         (0.60, 0.1, 0.4, DVec2::new(-3.2, 2.2), 3.0, DVec2::new(3.0, -0.5)),
+        // Stopped where the smallest pivot overshoots the facing wanted either way.
+        (0.478, 0.148, -1.49, DVec2::new(-2.44, -1.23), 2.89, DVec2::new(1.83, 2.19)),
     ];
     for (width, depth, cy, start, yaw, goal) in cases {
         let (world, walls) = walled_slot(width, depth, cy, start, yaw, goal);
@@ -169,4 +171,34 @@ fn navigation_takes_the_character_side_on_through_slots_narrower_than_its_should
         }
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// A field of posts with no way through for the character: the side-on passages it tries
+/// between them find no step to take, and each gives up instead of handing its phases round for
+/// ever — the episode ends (timed out, no collision). The episode runs on a thread so that a
+/// manoeuvre that never hands back fails the test rather than hanging it.
+#[test]
+fn a_side_on_passage_with_no_step_to_take_gives_up() {
+    let text = include_str!("fixtures/maps/side_on_posts.txt");
+    let (done_tx, done) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let anim = AnimationHandle(Arc::new(strider::builtin::animation().unwrap()));
+        let controller = strider::builtin::controller().unwrap();
+        let scenario = text::parse(text, "side_on_posts.txt").unwrap();
+        let params = StepParameters { animation: Some(anim), ..Default::default() };
+        let mut sim = Simulation::new(scenario.world(), params);
+        sim.add_agent(scenario.tasks[0], &controller);
+        let mut side_on = false;
+        while !sim.all_done() {
+            sim.step();
+            side_on |= sim.agents[0].body.animated().is_some_and(|b| b.side_on().is_some());
+        }
+        let a = &sim.agents[0];
+        let _ = done_tx.send((a.outcome, a.metrics.collisions, side_on));
+    });
+    let (outcome, collisions, side_on) =
+        done.recv_timeout(std::time::Duration::from_secs(120)).expect("the episode never ended");
+    assert!(side_on, "no side-on passage was tried");
+    assert_eq!(outcome, Some(strider::sim::Outcome::TimedOut));
+    assert_eq!(collisions, 0);
 }

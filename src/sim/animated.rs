@@ -59,7 +59,8 @@ pub struct Animation {
     pub player: PlayerParams,
     /// How candidates are ranked (the learnt policy).
     pub strategy: Strategy,
-    /// Gap the body's disc keeps from obstacles along a candidate's path, metres (0.05).
+    /// Gap the body's disc keeps from obstacles along a candidate's path, metres (0.03, the room
+    /// the kinematic disc keeps).
     pub clearance_m: f64,
     /// How the footstep planner steps on uneven terrain (planning, or the nominal step alone).
     pub footsteps: crate::footstep::PlannerMode,
@@ -120,7 +121,7 @@ impl Animation {
             policy,
             player: PlayerParams::default(),
             strategy: Strategy::Learnt,
-            clearance_m: 0.05,
+            clearance_m: 0.03,
             footsteps: crate::footstep::PlannerMode::Window,
             turn_ability,
         }
@@ -279,8 +280,8 @@ const RESTRIDE_STEP: f64 = 0.02;
 const PATH_ALLOWANCE_M: f64 = 0.005;
 /// Room a side the character needs beyond its disc and margin to walk through a gap rather
 /// than past it, metres: its clips curve and sway, and it must be able to stop or turn round
-/// after every step (0.85 m in all; the narrowest corridor it walks is 0.84 m).
-const PASSAGE_SLACK_M: f64 = 0.075;
+/// after every step (0.85 m in all).
+const PASSAGE_SLACK_M: f64 = 0.095;
 
 /// Room the body keeps from obstacles whatever it plays, metres: a frame whose root would end
 /// closer than this, and closer than it is now, is not taken.

@@ -43,6 +43,10 @@ const PAST_M: f64 = 0.5;
 /// Turned back, a pivot is good enough within this of the way through, radians (11°).
 const TURN_TOL: f64 = 0.2;
 
+/// Side-on, a pivot is taken only when it brings the heading at least this much nearer the
+/// one wanted, radians (3°).
+const TURN_GAIN: f64 = 0.05;
+
 /// Least cosine between the leading side and the way through the gap (20°).
 const LEAD_COS: f64 = 0.94;
 
@@ -174,7 +178,15 @@ impl SideOn {
         let p = DVec2::new(at.ground.x, at.ground.y);
         let standing = db.kinds[at.ending].ends_at_rest;
         let ok = |a: usize| at.reach_gap(db, a) <= reach;
+        // Phases handed over within this choice: a handover back to one already left here (the
+        // character still stands where it did) would go round for ever.
+        let mut left = 0u16;
+        let bit = |phase: Phase| 1u16 << phase as u16;
         loop {
+            if left & bit(self.phase) != 0 {
+                self.phase = Phase::Failed;
+            }
+            left |= bit(self.phase);
             match self.phase {
                 Phase::Done | Phase::Failed => {
                     self.sideways = false;
@@ -208,10 +220,12 @@ impl SideOn {
                     let rel = p - self.gap.centre;
                     let (aside, before) = (self.gap.through.perp_dot(rel), -self.gap.through.dot(rel));
                     let slant = if before > 0.0 { before / before.hypot(aside) } else { 0.0 };
+                    // (Not when the line-up handed over to the pivot here: it found no step to take.)
                     if self.phase == Phase::Turn
                         && standing
                         && slant < ALIGN_COS
                         && (aside.abs() > ALIGN_M || !self.cornered)
+                        && left & bit(Phase::Align) == 0
                     {
                         self.phase = Phase::Align;
                     }
@@ -338,6 +352,23 @@ impl SideOn {
                         if room(path, Stance::Walking) >= 0.0 && best.is_none_or(|(e, _)| err < e - 1e-9) {
                             best = Some((err, choice));
                         }
+                    }
+                    // Side-on, a pivot that would leave it hardly nearer the heading wanted (the
+                    // smallest pivot overshoots it either way, and the heading wanted moves with
+                    // the pivot's drift) is not taken: it side-steps from where it stands if the
+                    // capsule fits here (the side steps check their own room and back out if
+                    // blocked), else gives up.
+                    let now = wrap_angle(want(p) - at.ground.yaw).abs();
+                    if self.phase == Phase::Turn && best.is_none_or(|(e, _)| e > now - TURN_GAIN) {
+                        self.phase = if lead.dot(self.gap.through) >= LEAD_COS
+                            && room(&[p], Stance::Fits(Some(at.ground.yaw))) >= 0.0
+                        {
+                            self.travel = lead;
+                            Phase::Slide
+                        } else {
+                            Phase::Failed
+                        };
+                        continue;
                     }
                     return match best {
                         Some((_, c)) => {
