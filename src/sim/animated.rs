@@ -66,6 +66,9 @@ pub struct Animation {
     pub footsteps: crate::footstep::PlannerMode,
     /// Largest turn rate at speeds `0, 0.05, 0.1, …` m/s, radians per second.
     turn_ability: Vec<f64>,
+    /// The database has side steps either way and turns on the spot: the character can pass a
+    /// gap side-on ([`super::side_on`]).
+    side_on: bool,
 }
 
 impl Animation {
@@ -95,6 +98,8 @@ impl Animation {
                     .fold(0.0, f64::max)
             })
             .collect();
+        let has = |f: &dyn Fn(&crate::anim::db::IntervalKind) -> bool| db.kinds.iter().any(f);
+        let side_on = has(&|k| k.shuffle > 0) && has(&|k| k.shuffle < 0) && has(&|k| k.spot_turn != 0);
         // Speeds no interval comes near take the nearest speeds' ability (the larger).
         let known: Vec<usize> = (0..steps).filter(|&k| turn_ability[k] > 0.0).collect();
         for k in 0..steps {
@@ -124,6 +129,7 @@ impl Animation {
             clearance_m: 0.03,
             footsteps: crate::footstep::PlannerMode::Window,
             turn_ability,
+            side_on,
         }
     }
 
@@ -904,10 +910,7 @@ impl Body for AnimatedBody {
 
     /// Side-on, when the database has side steps either way and turns on the spot.
     fn narrowest_passage_m(&self) -> Option<f64> {
-        let kinds = &self.anim.db.kinds;
-        let has = |f: &dyn Fn(&crate::anim::db::IntervalKind) -> bool| kinds.iter().any(f);
-        (has(&|k| k.shuffle > 0) && has(&|k| k.shuffle < 0) && has(&|k| k.spot_turn != 0))
-            .then_some(super::side_on::SIDE_ON_PASSAGE_M)
+        self.anim.side_on.then_some(super::side_on::SIDE_ON_PASSAGE_M)
     }
 
     fn footprint(&self) -> Footprint {

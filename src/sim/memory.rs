@@ -347,6 +347,11 @@ impl Memory {
         // the disc does not fit through close; doors it fits through stay open), dearer within
         // radius + margin.
         let reach_cells = ((radius.max(0.0) + params.margin_m.max(0.0)) / c).ceil() as i64 + 1;
+        let closed_within = radius.max(0.0) - CLOSE_GIVE_CELLS * c;
+        let within = change_within(radius.max(0.0), params.margin_m.max(0.0), closed_within, closed_within);
+        // The widest distance a point changes a cell from (an empty cell's): the same for every
+        // stance (`with_narrowest` only narrows what closes a narrow cell).
+        let stamps = Stamps::shared(within[0].max(0.0).sqrt() / c);
         Memory {
             params: MemoryParams { cell_m: c, ..params },
             origin,
@@ -355,29 +360,12 @@ impl Memory {
             cells: vec![0; nx * ny],
             known: 0,
             radius: radius.max(0.0),
-            closed_within: radius.max(0.0) - CLOSE_GIVE_CELLS * c,
-            hard_within: radius.max(0.0) - CLOSE_GIVE_CELLS * c,
+            closed_within,
+            hard_within: closed_within,
             join_m: None,
             reach_cells,
-            change_within: change_within(
-                radius.max(0.0),
-                params.margin_m.max(0.0),
-                radius.max(0.0) - CLOSE_GIVE_CELLS * c,
-                radius.max(0.0) - CLOSE_GIVE_CELLS * c,
-            ),
-            // The widest distance a point changes a cell from (an empty cell's): the same for
-            // every stance (`with_narrowest` only narrows what closes a narrow cell).
-            stamps: Stamps::shared(
-                change_within(
-                    radius.max(0.0),
-                    params.margin_m.max(0.0),
-                    radius.max(0.0) - CLOSE_GIVE_CELLS * c,
-                    radius.max(0.0) - CLOSE_GIVE_CELLS * c,
-                )[0]
-                .max(0.0)
-                .sqrt()
-                    / c,
-            ),
+            change_within: within,
+            stamps,
             stale_m: radius.max(0.0) + params.margin_m + c,
             goal,
             path: Vec::new(),

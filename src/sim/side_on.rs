@@ -1,6 +1,7 @@
-//! Side-on passage (issue 26): a character fits through a slot narrower than its shoulders by
-//! turning side-on — chest and hips about 0.3 m deep instead of 0.46 m wide — and stepping
-//! sideways through it.
+//! Side-on passage (issue 26, beyond the seeds: the database's intervals chosen as in seed 000
+//! §3.2.2, the body held clear by capsules as in seed 002 §5): a character fits through a slot
+//! narrower than its shoulders by turning side-on — chest and hips about 0.3 m deep instead of
+//! 0.46 m wide — and stepping sideways through it.
 //!
 //! [`SideOn`] is the manoeuvre: standing in front of the gap (it stops first), the character
 //! pivots on the spot until its side points through the gap's middle, side-steps along that
@@ -178,6 +179,14 @@ impl SideOn {
         let p = DVec2::new(at.ground.x, at.ground.y);
         let standing = db.kinds[at.ending].ends_at_rest;
         let ok = |a: usize| at.reach_gap(db, a) <= reach;
+        // Mid-step, the candidate that closes the step playing; else the first step of kind
+        // `shuffle` (a side step either way, or a step back).
+        let step = |mid: bool, shuffle: i8| {
+            (0..cands.len()).find(|&a| {
+                let iv = cands[a].interval;
+                ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == shuffle }
+            })
+        };
         // Phases handed over within this choice: a handover back to one already left here (the
         // character still stands where it did) would go round for ever.
         let mut left = 0u16;
@@ -279,14 +288,7 @@ impl SideOn {
                         } else {
                             -1
                         };
-                        let find = |toward: i8| {
-                            (0..cands.len()).find(|&a| {
-                                let iv = cands[a].interval;
-                                ok(a)
-                                    && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == toward }
-                            })
-                        };
-                        let mut pick = find(toward);
+                        let mut pick = step(mid, toward);
                         // A side step that would leave it hardly nearer the way (it overshoots)
                         // is not taken: it steps back instead. The step's first interval moves
                         // the root about half of the step.
@@ -297,7 +299,7 @@ impl SideOn {
                                 path.last().map_or(0.0, |&q| self.gap.through.perp_dot(q - self.gap.centre) - aside);
                             if (aside + 2.0 * half).abs() > aside.abs() - ALIGN_GAIN_M {
                                 toward = 2;
-                                pick = find(toward);
+                                pick = step(mid, toward);
                             }
                         }
                         let clear = pick.is_some_and(|a| {
@@ -398,10 +400,7 @@ impl SideOn {
                         self.phase = Phase::Failed;
                         continue;
                     }
-                    let pick = (0..cands.len()).find(|&a| {
-                        let iv = cands[a].interval;
-                        ok(a) && if mid { iv == db.successor[at.ending] } else { db.kinds[iv].shuffle == side }
-                    });
+                    let pick = step(mid, side);
                     let clear = pick.is_some_and(|a| {
                         path.clear();
                         at.path(db, Choice::from(a), path);
