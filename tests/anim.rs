@@ -2,8 +2,12 @@
 //! (seed 000 §3.2): the built-in database, the shipped policy, database directories, training
 //! files, animated navigation and the command line.
 
+mod common;
+
+use common::strider;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command as Process, Output};
+
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
@@ -22,14 +26,6 @@ use strider::sim::{
     Surroundings, measure_tracking,
 };
 use strider::world::{Obstacle, ObstacleShape, Pose, World};
-
-fn strider(args: &[&str]) -> Output {
-    Process::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run strider")
-}
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);

@@ -3,7 +3,10 @@
 //! the built geometry, and reachable from every front door (`run`, `gen`, `render`, the live
 //! view, experiment scripts).
 
-use std::process::{Command, Output};
+mod common;
+
+use common::strider;
+
 use std::time::Instant;
 
 use glam::DVec2;
@@ -19,10 +22,6 @@ use strider::tui::MapSpec;
 use strider::world::World;
 
 const SEEDS: u64 = 200;
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
 
 fn map(name: &str) -> Scenario {
     let path = format!("{}/maps/{name}.rhai", env!("CARGO_MANIFEST_DIR"));

@@ -2,25 +2,13 @@
 //! (exit 2), never a stack overflow, a panic, a hang or unbounded memory; a closed stdout
 //! pipe is not an error; outputs are written atomically.
 
+mod common;
+
+use common::{stderr, stdout, strider};
+
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run strider")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("harden").join(name);

@@ -8,8 +8,11 @@
 //! them. The CMU files of `STRIDER_CMU_DIR` (default `../shared/motions/cmu`) are tried too when
 //! that folder exists.
 
+mod common;
+
+use common::strider;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use strider::anim::bvh::{self, BvhOptions};
 use strider::anim::procedural::{Gait, locomotion};
@@ -114,14 +117,6 @@ fn a_skeleton_without_legs_has_no_feet() {
     };
     let s = Skeleton::new(vec![spine("a", None), spine("b", Some(0)), spine("c", Some(1))]).unwrap();
     assert_eq!(rig::locate_feet(&s, &[]), None);
-}
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run strider")
 }
 
 fn out_dir(name: &str) -> PathBuf {

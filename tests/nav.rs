@@ -1,7 +1,9 @@
 //! Navigation end to end: the shipped maps, determinism, and the `run` / `render` / `gen`
 //! commands through the real binary.
 
-use std::process::{Command, Output};
+mod common;
+
+use common::strider;
 
 use strider::experiment::{self, Job};
 use strider::maps::generate::{Density, random_world};
@@ -17,10 +19,6 @@ fn map(name: &str) -> Scenario {
     let path = format!("{}/maps/{name}.rhai", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
     load_scenario(&text, &path, Limits::default(), &ScriptLog::new()).unwrap()
-}
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
 }
 
 #[test]

@@ -1,15 +1,13 @@
 //! Seed 000 Table 1 reproduced: the pure-RL baseline and `strider reproduce table1`.
 
-use std::process::Command;
+mod common;
+
+use common::strider;
 
 use glam::DVec2;
 use strider::baseline::{Ending, PureRl, PureRlParams};
 use strider::maps::generate::Density;
 use strider::world::{Obstacle, ObstacleShape, Pose, Task, World};
-
-fn strider(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).output().expect("the binary runs")
-}
 
 #[test]
 fn the_pure_rl_state_grows_with_density_as_in_table_1() {

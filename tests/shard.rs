@@ -1,12 +1,12 @@
 //! `strider run --shard I/N` and `strider merge`: the shards of a run, merged, print exactly
 //! what the whole run prints, in JSON and in CSV; a missing or repeated shard is an error.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
+use common::strider;
+
+use std::path::PathBuf;
+use std::process::Output;
 
 fn stdout(o: &Output) -> String {
     String::from_utf8(o.stdout.clone()).unwrap()

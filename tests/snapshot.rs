@@ -3,23 +3,18 @@
 //! divergence, bit-identical pictures whatever the thread count, and bad input reported with
 //! the file at fault.
 
+mod common;
+
+use common::strider_with_env as strider;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use strider::sim::{Body, Simulation};
 use strider::snapshot::{self, Episode, Settings, Spec};
 
 fn manifest() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn strider(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_strider"));
-    c.args(args).current_dir(manifest()).env_remove(snapshot::UPDATE_ENV);
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().unwrap()
 }
 
 fn text(o: &Output) -> (String, String) {

@@ -2,6 +2,10 @@
 //! set, on generated profiles of every kind and on the shipped ones; every foothold, swing and
 //! leg pose checked from the ground pieces directly; `strider steps` end to end.
 
+mod common;
+
+use common::strider;
+
 use std::collections::{HashSet, VecDeque};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -397,10 +401,6 @@ fn shipped_profiles_are_crossed_or_stop_at_the_edge() {
     }
     let dir = std::fs::read_dir(root().join("maps/profiles")).unwrap();
     assert_eq!(dir.count(), 7, "every shipped profile is tested here");
-}
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(root()).output().expect("run strider")
 }
 
 fn json(o: &Output) -> serde_json::Value {

@@ -5,8 +5,11 @@
 //! `strider run --bvh-out`, and every bone of the exported motion checked against the map's
 //! obstacles by forward kinematics over the BVH file and geometry of this test's own.
 
+mod common;
+
+use common::strider;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::{DVec2, DVec3};
 use rand_chacha::ChaCha8Rng;
@@ -222,10 +225,6 @@ fn generate(kind: &str, k: u64) -> Scene {
         }
         _ => unreachable!(),
     }
-}
-
-fn strider(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_strider")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
 }
 
 fn dir(name: &str) -> PathBuf {

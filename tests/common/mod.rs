@@ -1,0 +1,32 @@
+//! What the integration tests share: running the real `strider` binary the way a user does.
+//! Each test crate takes what it needs (`mod common;`), so not every helper is used by every crate.
+#![allow(dead_code)]
+
+use std::process::{Command, Output};
+
+/// Runs the `strider` binary built with these tests, from the repository root (where `maps/`
+/// and `scripts/` are), with `args`, and waits for it.
+pub fn strider(args: &[&str]) -> Output {
+    strider_with_env(args, &[])
+}
+
+/// As [`strider`], with extra environment variables. The switch that writes snapshot goldens
+/// is never inherited from the environment the tests run in.
+pub fn strider_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_strider"));
+    command.args(args).current_dir(env!("CARGO_MANIFEST_DIR")).env_remove("STRIDER_UPDATE_GOLDEN");
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    command.output().expect("run the strider binary")
+}
+
+/// The binary's standard output as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The binary's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
