@@ -28,7 +28,8 @@ pub struct EpisodeRecord {
     pub scenario: String,
     /// Task index within the scenario.
     pub task: usize,
-    /// Seed of the episode.
+    /// Seed of the episode (a string in JSON: [`Field::Key`]).
+    #[serde(deserialize_with = "key_from_string")]
     pub seed: u64,
     /// Goal reached within the time limit.
     pub reached: bool,
@@ -110,6 +111,12 @@ pub struct EpisodeRecord {
     pub refusal: Option<String>,
 }
 
+/// A [`Field::Key`] as JSON holds it: a string of decimal digits.
+fn key_from_string<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+    let text = String::deserialize(d)?;
+    text.parse().map_err(|_| serde::de::Error::custom(format!("expected a seed (decimal digits), found \"{text}\"")))
+}
+
 /// JSON writes a non-finite number as `null`; a clearance is never NaN, so `null` is infinity
 /// (nothing within range).
 fn infinite_when_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -121,6 +128,10 @@ fn infinite_when_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::
 pub enum Field<'a> {
     /// A count.
     Count(u64),
+    /// A 64-bit key (a seed): JSON writes it as a string of its digits, since readers that
+    /// hold numbers as doubles (jq, JavaScript, …) change integers above 2^53; CSV and scripts
+    /// get the digits.
+    Key(u64),
     /// A measurement.
     Number(f64),
     /// Yes or no.
@@ -146,12 +157,12 @@ impl From<Option<u64>> for Field<'_> {
 impl EpisodeRecord {
     /// Every field, named, in the order output formats list them.
     pub fn fields(&self) -> [(&'static str, Field<'_>); 36] {
-        use Field::{Count, Flag, Number, Text};
+        use Field::{Count, Flag, Key, Number, Text};
         [
             ("episode", Count(self.episode as u64)),
             ("scenario", Text(&self.scenario)),
             ("task", Count(self.task as u64)),
-            ("seed", Count(self.seed)),
+            ("seed", Key(self.seed)),
             ("reached", Flag(self.reached)),
             ("collisions", Count(u64::from(self.collisions))),
             ("time_s", Number(self.time_s)),
@@ -198,6 +209,7 @@ impl Serialize for EpisodeRecord {
         for (name, f) in fields {
             match f {
                 Field::Count(v) => map.serialize_entry(name, &v)?,
+                Field::Key(v) => map.serialize_entry(name, &v.to_string())?,
                 Field::Number(v) => map.serialize_entry(name, &v)?,
                 Field::Flag(v) => map.serialize_entry(name, &v)?,
                 Field::Text(v) => map.serialize_entry(name, v)?,
@@ -541,7 +553,8 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
         p90_path_ratio: quantile(0.9),
         collisions: records.iter().map(|r| u64::from(r.collisions)).sum(),
         min_clearance_m: records.iter().map(|r| r.min_clearance_m).fold(f64::INFINITY, f64::min),
-        stalled_share: records.iter().map(|r| f64::from(r.stalls)).sum::<f64>()
+        // Summed from +0, so that no episodes share 0, not -0 (f64's `sum` starts at -0).
+        stalled_share: records.iter().map(|r| f64::from(r.stalls)).fold(0.0, |a, b| a + b)
             / records.iter().map(|r| f64::from(r.steps)).sum::<f64>().max(1.0),
         foot_skating_cm_per_frame: {
             let (s, w) =

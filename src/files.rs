@@ -1,12 +1,17 @@
 //! strider's one way in and out of files and stdout (DESIGN.md §7), for the command line, the
 //! live view, the loading layer ([`crate::load`]) and snapshots: every input file is read through [`read_text`] or [`read_bytes`], which refuse files over
 //! [`MAX_INPUT_BYTES`] at once (pipes and devices such as `/dev/zero` included) and name the
-//! file in every error; outputs are written atomically ([`write_atomic`], [`replace_dir`]);
+//! file in every error; outputs are written atomically ([`write_atomic`], [`replace_dir`]),
+//! through symbolic links to the file they name, straight into FIFOs and character devices,
+//! never over a directory, and a directory is replaced only when all it holds is strider's;
 //! data goes to stdout through [`write_stdout`] (or the `outln!` macro), which returns the
 //! error of a closed pipe instead of panicking, so `main` can treat it as success.
 //!
 //! Invariant: a temporary file or directory made here is removed on every way out of the
-//! function that made it (error, panic or success), except when the process is killed.
+//! function that made it (error, panic or success), except when the process is killed; it is
+//! always new (made where nothing was), so removing it never removes what strider did not
+//! write. Nothing else is removed or renamed over but a regular file being replaced by
+//! [`write_atomic`] and a directory whose every entry its writer claims ([`replace_dir`]).
 
 use std::fmt;
 use std::io::{self, Read, Write};
@@ -76,27 +81,51 @@ macro_rules! outln {
 }
 pub(crate) use outln;
 
-/// A temporary path that is removed (file or directory) when dropped, unless kept.
+/// Most symbolic links followed from one output path to the file it names (as Linux's
+/// `MAXSYMLINKS`): more is a loop.
+const MAX_LINKS: usize = 40;
+
+/// Temporaries made by this process so far: each gets a name of its own.
+static TEMPORARIES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A temporary file or directory that strider made itself (never one that was there before),
+/// removed when dropped unless kept.
 #[derive(Debug)]
-pub struct TempPath {
+struct TempPath {
     path: PathBuf,
     keep: bool,
 }
 
 impl TempPath {
-    /// A hidden temporary name beside `target`: `.NAME.tmpPID` in the same directory, so that
-    /// a rename onto `target` never crosses file systems.
-    pub fn beside(target: &Path) -> TempPath {
-        TempPath { path: temp_name(target, "tmp"), keep: false }
+    /// A hidden name beside `target` (`.NAME.PID-N.tmp` in the same directory, so that a
+    /// rename onto `target` never crosses file systems) that nothing holds yet: `make` creates
+    /// the temporary there and fails with [`io::ErrorKind::AlreadyExists`] when something does.
+    fn make_beside<T>(target: &Path, make: impl Fn(&Path) -> io::Result<T>) -> io::Result<(TempPath, T)> {
+        let dir = parent_of(target);
+        let name = target.file_name().map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+        loop {
+            let n = TEMPORARIES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let path = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
+            match make(&path) {
+                Ok(made) => return Ok((TempPath { path, keep: false }, made)),
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(e),
+            }
+        }
     }
 
-    /// The temporary path.
-    pub fn path(&self) -> &Path {
-        &self.path
+    /// A new empty file beside `target`, open for writing.
+    fn file_beside(target: &Path) -> io::Result<(TempPath, std::fs::File)> {
+        TempPath::make_beside(target, |p| std::fs::OpenOptions::new().write(true).create_new(true).open(p))
+    }
+
+    /// A new empty directory beside `target`.
+    fn dir_beside(target: &Path) -> io::Result<TempPath> {
+        TempPath::make_beside(target, |p| std::fs::create_dir(p)).map(|(t, ())| t)
     }
 
     /// Renames the temporary onto `target`; from then on nothing is removed.
-    pub fn persist(mut self, target: &Path) -> io::Result<()> {
+    fn persist(mut self, target: &Path) -> io::Result<()> {
         std::fs::rename(&self.path, target)?;
         self.keep = true;
         Ok(())
@@ -111,55 +140,196 @@ impl Drop for TempPath {
     }
 }
 
-fn temp_name(target: &Path, tag: &str) -> PathBuf {
-    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).map(PathBuf::from).unwrap_or_else(|| ".".into());
-    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
-    dir.join(format!(".{name}.{tag}{}", std::process::id()))
+/// The directory `path` is in (`.` for a bare name).
+fn parent_of(path: &Path) -> PathBuf {
+    path.parent().filter(|p| !p.as_os_str().is_empty()).map_or_else(|| ".".into(), Path::to_path_buf)
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced, then
-/// renamed over `path`. The temporary never outlives the call.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let tmp = TempPath::beside(path);
-    {
-        let mut f = std::fs::File::create(tmp.path())?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-    }
-    tmp.persist(path)
-}
-
-/// Checks that a file can be written at `path` (its directory exists and is writable) by
-/// creating and removing a temporary file beside it, so a long computation does not end in a
-/// write error.
-pub fn check_writable(path: &Path) -> Result<(), SourceError> {
-    let tmp = TempPath::beside(path);
-    std::fs::File::create(tmp.path())
-        .map(drop)
-        .map_err(|e| SourceError::new(&path.display().to_string(), 0, 0, format!("cannot write here: {e}")))
-}
-
-/// Fills a fresh temporary directory beside `dir` with `fill`, then puts it in place of `dir`
-/// (which may exist): the old directory is moved aside, the new one renamed in, the old one
-/// removed. If `fill` fails, `dir` is left as it was.
-pub fn replace_dir<E: From<io::Error>>(dir: &Path, fill: impl FnOnce(&Path) -> Result<(), E>) -> Result<(), E> {
-    let mut tmp = TempPath::beside(dir);
-    let _ = std::fs::remove_dir_all(tmp.path());
-    std::fs::create_dir_all(tmp.path())?;
-    fill(tmp.path())?;
-    if dir.exists() {
-        let old = TempPath { path: temp_name(dir, "old"), keep: false };
-        let _ = std::fs::remove_dir_all(old.path());
-        std::fs::rename(dir, old.path())?;
-        if let Err(e) = std::fs::rename(tmp.path(), dir) {
-            let _ = std::fs::rename(old.path(), dir);
-            return Err(e.into());
+/// The path `path` names once every symbolic link at its end is followed (a chain of them,
+/// relative ones read from the link's own directory); `path` itself when it is no link. The
+/// file there may not exist (a dangling link names the file to create).
+pub fn link_target(path: &Path) -> io::Result<PathBuf> {
+    let mut at = path.to_path_buf();
+    for _ in 0..=MAX_LINKS {
+        match std::fs::symlink_metadata(&at) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let next = std::fs::read_link(&at)?;
+                at = if next.is_absolute() { next } else { parent_of(&at).join(next) };
+            }
+            _ => return Ok(at),
         }
-        tmp.keep = true;
-        drop(old);
+    }
+    Err(io::Error::other(format!("more than {MAX_LINKS} symbolic links from {}: a loop", path.display())))
+}
+
+/// What an output path holds, once its links are followed.
+enum Target {
+    /// Nothing yet, or a regular file (with its permissions): written through a temporary
+    /// renamed onto it.
+    File(Option<std::fs::Permissions>),
+    /// A FIFO or a character device (a terminal, `/dev/null`): written straight into.
+    Stream,
+}
+
+/// What `target` (a path with no link at its end) holds; an error for what strider never writes
+/// over: a directory, a block device, a socket.
+fn target_kind(target: &Path) -> io::Result<Target> {
+    use std::os::unix::fs::FileTypeExt;
+    let meta = match std::fs::metadata(target) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Target::File(None)),
+        Err(e) => return Err(e),
+    };
+    let t = meta.file_type();
+    if t.is_file() {
+        Ok(Target::File(Some(meta.permissions())))
+    } else if t.is_fifo() || t.is_char_device() {
+        Ok(Target::Stream)
+    } else if t.is_dir() {
+        Err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file"))
+    } else {
+        Err(io::Error::other("is a block device or a socket: strider writes only files, FIFOs and character devices"))
+    }
+}
+
+/// Writes `bytes` to `path`. A symbolic link is followed to the file it names (which is
+/// written, the link kept); a regular file (or none) is replaced atomically: a temporary file
+/// in the same directory, synced, then renamed over it, with the old file's permissions; a
+/// FIFO or a character device is written straight into; a directory, block device or socket
+/// is an error, and is left as it was. The temporary never outlives the call.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let target = link_target(path)?;
+    match target_kind(&target)? {
+        Target::Stream => std::fs::OpenOptions::new().write(true).open(&target)?.write_all(bytes),
+        Target::File(permissions) => {
+            let (tmp, mut f) = TempPath::file_beside(&target)?;
+            f.write_all(bytes)?;
+            if let Some(p) = permissions {
+                f.set_permissions(p)?;
+            }
+            f.sync_all()?;
+            drop(f);
+            tmp.persist(&target)
+        }
+    }
+}
+
+/// Checks that a file can be written at `path` (see [`write_atomic`]: its directory exists and
+/// is writable, it is no directory) by creating and removing a temporary file beside it, so a
+/// long computation does not end in a write error.
+pub fn check_writable(path: &Path) -> Result<(), SourceError> {
+    let fail = |e: io::Error| SourceError::new(&path.display().to_string(), 0, 0, format!("cannot write here: {e}"));
+    let target = link_target(path).map_err(fail)?;
+    match target_kind(&target).map_err(fail)? {
+        Target::Stream => Ok(()),
+        Target::File(_) => TempPath::file_beside(&target).map(drop).map_err(fail),
+    }
+}
+
+/// The first entry under `dir` (a path relative to it) that `owned` does not claim, depth
+/// first in name order; links, and folders not claimed, are not looked into.
+fn first_foreign(dir: &Path, rel: &Path, owned: &dyn Fn(&Path) -> bool) -> io::Result<Option<PathBuf>> {
+    let mut entries: Vec<_> = std::fs::read_dir(dir.join(rel))?.collect::<Result<_, _>>()?;
+    entries.sort_by_key(std::fs::DirEntry::file_name);
+    for e in entries {
+        let name = rel.join(e.file_name());
+        let t = e.file_type()?;
+        if !(t.is_file() || t.is_dir()) || !owned(&name) {
+            return Ok(Some(name));
+        }
+        if t.is_dir()
+            && let Some(f) = first_foreign(dir, &name, owned)?
+        {
+            return Ok(Some(f));
+        }
+    }
+    Ok(None)
+}
+
+/// Swaps the directories `a` and `b` in one step where the system can (Linux's
+/// `renameat2(RENAME_EXCHANGE)`); `false` where it cannot.
+fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{CWD, RenameFlags, renameat_with};
+        match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
+            Ok(()) => Ok(true),
+            Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => Ok(false),
+            Err(e) => Err(e.into()),
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        let _ = (a, b);
+        Ok(false)
+    }
+}
+
+/// Writes the directory `dir` as a whole: `fill` fills a fresh temporary directory beside it,
+/// which then takes `dir`'s place in one step (Linux swaps the two; elsewhere the old one is
+/// moved aside first), and the old directory is removed. A link to a directory is followed
+/// (the directory it names is replaced, the link kept).
+///
+/// What is already at `dir` must be strider's to replace: nothing, an empty directory, or a
+/// directory every entry of which (a path relative to `dir`) `owned` claims; anything else
+/// (a file, a foreign entry, a link inside) is an error naming it, and nothing is written. If
+/// `fill` fails, `dir` is left as it was. Every error names `dir`.
+pub fn replace_dir<E: From<io::Error>>(
+    dir: &Path,
+    owned: &dyn Fn(&Path) -> bool,
+    fill: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<(), E> {
+    let named = |shown: &str, message: &dyn fmt::Display| io::Error::other(format!("{shown}: {message}"));
+    let given = dir.display().to_string();
+    let target = link_target(dir).map_err(|e| named(&given, &e))?;
+    // `.`, `..` and the like have no name to rename: take the folder's own path.
+    let target = match std::fs::canonicalize(&target) {
+        Ok(t) => t,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => target,
+        Err(e) => return Err(named(&given, &e).into()),
+    };
+    // A folder given as `.` or through a link is named both ways.
+    let plain = dir.file_name().is_some() && link_target(dir).is_ok_and(|t| t == dir);
+    let shown = if plain { given } else { format!("{given} ({})", target.display()) };
+    let fail = |e: io::Error| named(&shown, &e);
+    if target.file_name().is_none() {
+        return Err(named(&shown, &"cannot replace the root folder").into());
+    }
+    // Replaced whole, the working folder would leave the shell in a removed one.
+    if std::env::current_dir().and_then(std::fs::canonicalize).is_ok_and(|cwd| cwd == target) {
+        return Err(named(&shown, &"is the current folder, which strider cannot replace whole: give a folder inside it").into());
+    }
+    let exists = match std::fs::symlink_metadata(&target) {
+        Ok(m) if m.is_dir() => true,
+        Ok(_) => return Err(named(&shown, &"exists and is not a folder: strider writes the folder itself").into()),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => false,
+        Err(e) => return Err(fail(e).into()),
+    };
+    if exists && let Some(foreign) = first_foreign(&target, Path::new(""), owned).map_err(fail)? {
+        let why = format!(
+            "holds {}, which strider did not write: give a new or empty folder (strider replaces only what it wrote)",
+            foreign.display()
+        );
+        return Err(named(&shown, &why).into());
+    }
+    std::fs::create_dir_all(parent_of(&target)).map_err(fail)?;
+    let tmp = TempPath::dir_beside(&target).map_err(fail)?;
+    fill(&tmp.path)?;
+    if !exists {
+        return Ok(tmp.persist(&target).map_err(fail)?);
+    }
+    // The old directory ends where the new one was made, and goes with it.
+    if exchange(&tmp.path, &target).map_err(fail)? {
         return Ok(());
     }
-    tmp.persist(dir)?;
+    let old = TempPath::dir_beside(&target).map_err(fail)?;
+    std::fs::rename(&target, &old.path).map_err(fail)?;
+    if let Err(e) = std::fs::rename(&tmp.path, &target) {
+        let _ = std::fs::rename(&old.path, &target);
+        return Err(fail(e).into());
+    }
+    let mut tmp = tmp;
+    tmp.keep = true;
     Ok(())
 }
 
@@ -204,10 +374,11 @@ mod tests {
         assert!(check_writable(&dir.join("missing/policy.bin")).is_err());
 
         let db = dir.join("db");
-        replace_dir(&db, |d| std::fs::write(d.join("a"), "1")).unwrap();
-        replace_dir(&db, |d| std::fs::write(d.join("b"), "2")).unwrap();
+        let all: &dyn Fn(&Path) -> bool = &|_| true;
+        replace_dir(&db, all, |d| std::fs::write(d.join("a"), "1")).unwrap();
+        replace_dir(&db, all, |d| std::fs::write(d.join("b"), "2")).unwrap();
         assert!(!db.join("a").exists() && db.join("b").exists());
-        let failed: Result<(), io::Error> = replace_dir(&db, |d| {
+        let failed: Result<(), io::Error> = replace_dir(&db, all, |d| {
             std::fs::write(d.join("c"), "3")?;
             Err(io::Error::other("half-way"))
         });
@@ -215,6 +386,100 @@ mod tests {
         assert!(db.join("b").exists() && !db.join("c").exists());
         let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(names.len(), 2, "{names:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn outputs_go_through_links_into_fifos_and_never_over_directories() {
+        use std::os::unix::fs::{FileTypeExt, symlink};
+        let dir = scratch("special");
+        // A chain of links, the second relative: the file at its end is written, the links kept.
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("sub/t.png"), "old").unwrap();
+        symlink("t.png", dir.join("sub/l1")).unwrap();
+        symlink(dir.join("sub/l1"), dir.join("l2")).unwrap();
+        write_atomic(&dir.join("l2"), b"new").unwrap();
+        assert!(std::fs::symlink_metadata(dir.join("l2")).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(dir.join("sub/l1")).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(dir.join("sub/t.png")).unwrap(), b"new");
+        // A dangling link names the file to make.
+        symlink("made.png", dir.join("dangling")).unwrap();
+        write_atomic(&dir.join("dangling"), b"x").unwrap();
+        assert_eq!(std::fs::read(dir.join("made.png")).unwrap(), b"x");
+        symlink("loop_b", dir.join("loop_a")).unwrap();
+        symlink("loop_a", dir.join("loop_b")).unwrap();
+        assert!(write_atomic(&dir.join("loop_a"), b"x").unwrap_err().to_string().contains("loop"));
+        // A directory is refused and left as it was.
+        std::fs::create_dir(dir.join("d")).unwrap();
+        std::fs::write(dir.join("d/keep"), "k").unwrap();
+        let e = write_atomic(&dir.join("d"), b"x").unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::IsADirectory, "{e}");
+        assert!(check_writable(&dir.join("d")).is_err());
+        assert_eq!(std::fs::read(dir.join("d/keep")).unwrap(), b"k");
+        // A character device is written into, not replaced.
+        write_atomic(Path::new("/dev/null"), b"x").unwrap();
+        assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+        // A FIFO is written into while a reader reads.
+        let fifo = dir.join("fifo");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(fifo).unwrap())
+        };
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        check_writable(&fifo).unwrap();
+        // A replaced file keeps its permissions.
+        use std::os::unix::fs::PermissionsExt;
+        let plain = dir.join("mode.txt");
+        std::fs::write(&plain, "a").unwrap();
+        std::fs::set_permissions(&plain, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_atomic(&plain, b"b").unwrap();
+        assert_eq!(std::fs::metadata(&plain).unwrap().permissions().mode() & 0o777, 0o640);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_directory_is_replaced_only_when_all_it_holds_is_claimed() {
+        use std::os::unix::fs::symlink;
+        let dir = scratch("replace");
+        let out = dir.join("out");
+        let ours: &dyn Fn(&Path) -> bool = &|p| p == Path::new("data") || p.starts_with("data/") || p == Path::new("m");
+        let fill = |d: &Path| -> io::Result<()> {
+            std::fs::create_dir(d.join("data"))?;
+            std::fs::write(d.join("data/x"), "new")?;
+            std::fs::write(d.join("m"), "manifest")
+        };
+        // Empty: taken.
+        std::fs::create_dir(&out).unwrap();
+        replace_dir(&out, ours, fill).unwrap();
+        assert_eq!(std::fs::read(out.join("data/x")).unwrap(), b"new");
+        // Foreign entries, at the top or further in: refused, named, untouched.
+        std::fs::write(out.join("precious.txt"), "mine").unwrap();
+        let e = replace_dir(&out, ours, fill).unwrap_err().to_string();
+        assert!(e.contains("precious.txt") && e.contains(&out.display().to_string()), "{e}");
+        assert_eq!(std::fs::read(out.join("precious.txt")).unwrap(), b"mine");
+        std::fs::remove_file(out.join("precious.txt")).unwrap();
+        symlink("/etc", out.join("data/link")).unwrap();
+        let e = replace_dir(&out, ours, fill).unwrap_err().to_string();
+        assert!(e.contains("data/link"), "{e}");
+        std::fs::remove_file(out.join("data/link")).unwrap();
+        // A file is no folder.
+        std::fs::write(dir.join("file"), "f").unwrap();
+        assert!(replace_dir(&dir.join("file"), ours, fill).is_err());
+        assert_eq!(std::fs::read(dir.join("file")).unwrap(), b"f");
+        // A link to a folder: the folder is replaced, the link kept.
+        std::fs::write(out.join("data/x"), "old").unwrap();
+        symlink(&out, dir.join("link")).unwrap();
+        replace_dir(&dir.join("link"), ours, fill).unwrap();
+        assert!(std::fs::symlink_metadata(dir.join("link")).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(out.join("data/x")).unwrap(), b"new");
+        // Nothing left beside.
+        let mut names: Vec<_> =
+            std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        assert_eq!(names, ["file", "link", "out"]);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

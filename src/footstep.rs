@@ -36,6 +36,7 @@ pub use planner::{
 pub use step::{StepSet, check_step, position_m};
 
 use crate::anim::actor::{ANKLE_HEIGHT_M, FOOT_FORWARD_M, HEEL_BACK_M, PELVIS_HEIGHT_M, SHIN_M, THIGH_M};
+use crate::lex::shown;
 
 /// The sagittal geometry of a leg and its foot. Distances in metres. Defaults: the built-in
 /// actor ([`crate::anim::actor`]).
@@ -171,7 +172,7 @@ pub const MIN_STEP_SPACING_M: f64 = 1e-3;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamsError {
     /// A value is not finite or outside its range.
-    #[error("{field} = {value} is out of range: {expected}")]
+    #[error("{field} = {} is out of range: {expected}", shown(*value))]
     OutOfRange {
         /// The parameter.
         field: &'static str,
@@ -181,7 +182,7 @@ pub enum ParamsError {
         expected: &'static str,
     },
     /// `s_max` is not above `s_min`.
-    #[error("inverted step limits: step_max_m = {max} must be greater than step_min_m = {min}")]
+    #[error("inverted step limits: step_max_m = {} must be greater than step_min_m = {}", shown(*max), shown(*min))]
     InvertedStepLimits {
         /// `s_min`, metres.
         min: f64,
@@ -214,7 +215,7 @@ impl FootstepParams {
             if value.is_finite() && value >= 0.0 && value.fract() == 0.0 && value <= 1e6 {
                 Ok(value as usize)
             } else {
-                Err(format!("`{key}` must be a whole number ≥ 0, found {value}"))
+                Err(format!("`{key}` must be a whole number ≥ 0, found {}", shown(value)))
             }
         };
         match key {
@@ -227,7 +228,14 @@ impl FootstepParams {
             "max_step_down_m" => self.max_step_down_m = value,
             "max_slope_deg" => self.max_slope_deg = value,
             "foot_length_m" => {
-                let heel = self.leg.heel_back_m / self.leg.foot_length_m();
+                // The heel's share of the sole; the actor's when the sole has no length to
+                // take it from (a `foot_length_m 0` before this one).
+                let foot = self.leg.foot_length_m();
+                let heel = if foot > 0.0 && foot.is_finite() {
+                    self.leg.heel_back_m / foot
+                } else {
+                    HEEL_BACK_M / (HEEL_BACK_M + FOOT_FORWARD_M)
+                };
                 self.leg.heel_back_m = value * heel;
                 self.leg.toe_forward_m = value * (1.0 - heel);
             }
@@ -246,10 +254,16 @@ impl FootstepParams {
         range("thigh_m", l.thigh_m, l.thigh_m > 0.0 && l.thigh_m <= 10.0, "0 < thigh ≤ 10 m")?;
         range("shin_m", l.shin_m, l.shin_m > 0.0 && l.shin_m <= 10.0, "0 < shin ≤ 10 m")?;
         range("ankle_height_m", l.ankle_height_m, l.ankle_height_m >= 0.0 && l.ankle_height_m <= 1.0, "0–1 m")?;
+        // The sole as a whole first: maps give its length, which sets heel and toe.
+        let foot = l.foot_length_m();
+        range(
+            "foot_length_m",
+            foot,
+            foot > 0.0 && l.heel_back_m <= 1.0 && l.toe_forward_m <= 1.0,
+            "a sole longer than 0 reaching at most 1 m behind and 1 m ahead of the ankle (heel_back_m + toe_forward_m)",
+        )?;
         range("heel_back_m", l.heel_back_m, l.heel_back_m >= 0.0 && l.heel_back_m <= 1.0, "0–1 m")?;
         range("toe_forward_m", l.toe_forward_m, l.toe_forward_m >= 0.0 && l.toe_forward_m <= 1.0, "0–1 m")?;
-        let foot = l.foot_length_m();
-        range("foot_length_m", foot, foot > 0.0, "a foot longer than 0 (heel_back_m + toe_forward_m)")?;
         let standing = l.ankle_height_m + l.length_m();
         range(
             "hip_height_m",
@@ -351,6 +365,27 @@ mod tests {
     }
 
     #[test]
+    fn a_foot_length_is_named_as_given_and_never_made_nan() {
+        let set = |pairs: &[(&str, f64)]| {
+            let mut p = FootstepParams::default();
+            for (k, v) in pairs {
+                p.set(k, *v).unwrap();
+            }
+            p
+        };
+        // The last value counts, whatever came before.
+        let p = set(&[("foot_length_m", 0.0), ("foot_length_m", 0.24)]);
+        p.validate().unwrap();
+        assert!((p.leg.foot_length_m() - 0.24).abs() < 1e-12);
+        let d = LegGeometry::default();
+        assert!((p.leg.heel_back_m / 0.24 - d.heel_back_m / d.foot_length_m()).abs() < 1e-12);
+        for (value, text) in [(2.0, "foot_length_m = 2 is out"), (0.0, "foot_length_m = 0 is out"), (1e300, "= 1e300 is")] {
+            let e = set(&[("foot_length_m", value)]).validate().unwrap_err().to_string();
+            assert!(e.contains(text), "{e}");
+        }
+    }
+
+    #[test]
     fn bad_parameters_are_named() {
         let ok = FootstepParams::default();
         let cases: Vec<(FootstepParams, &str)> = vec![
@@ -367,6 +402,7 @@ mod tests {
             (FootstepParams { intervals: 100, step_min_m: 0.64, step_max_m: 0.7, ..ok }, "1 mm"),
             (FootstepParams { max_step_down_m: -0.1, ..ok }, "max_step_down_m"),
             (FootstepParams { leg: LegGeometry { thigh_m: 0.0, ..ok.leg }, ..ok }, "thigh_m"),
+            (FootstepParams { step_max_m: 1e300, ..ok }, "step_max_m = 1e300 is out of range"),
         ];
         for (p, needle) in cases {
             let e = p.validate().expect_err(needle).to_string();

@@ -5,8 +5,8 @@
 //! A line is split into whitespace-separated [`Tok`]s, each with its 1-based column in
 //! characters, so every error can name the line and column of the word at fault; [`tokenize`]
 //! also ends the line at a `#` comment. Numbers are read with [`Tok::number`] (finite only)
-//! or, in FLL's spelling of the infinities and NaN, with [`parse_number`], and written back
-//! exactly by [`number`]. No IO.
+//! or, in FLL's spelling of the infinities and NaN, with [`parse_number`], written back
+//! exactly by [`number`], and shown in messages by [`shown`]. No IO.
 
 use crate::diagnostic::SourceError;
 
@@ -94,6 +94,13 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// A number as a message shows it: the shortest decimal that reads back as the same value,
+/// in exponent form when it would be long (`1e300`, `2.5e-9`), `NaN` and `inf` as Rust writes
+/// them.
+pub fn shown(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && !(1e-5..1e16).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
+}
+
 /// Reads an FLL number (`nan`, `inf`, `+inf`, `-inf` or a decimal).
 pub fn parse_number(s: &str) -> Option<f64> {
     match s.to_ascii_lowercase().as_str() {
@@ -131,5 +138,7 @@ mod tests {
         let e = Tok { text: "inf", col: 4 }.number("f", 2).unwrap_err();
         assert_eq!((e.line, e.col, e.message.as_str()), (2, 4, "`inf` is not a finite number"));
         assert_eq!(Tok { text: "-2.5", col: 1 }.number("f", 1).unwrap(), -2.5);
+        let texts: Vec<String> = [1e300, -2.5e-9, 0.25, 1e15, 0.0, f64::NAN, f64::NEG_INFINITY].map(shown).into();
+        assert_eq!(texts, ["1e300", "-2.5e-9", "0.25", "1000000000000000", "0", "NaN", "-inf"]);
     }
 }

@@ -168,7 +168,10 @@ pub fn load_map(spec: &MapSpec) -> Loaded<MapSource> {
     };
     let file = path.display().to_string();
     if path.is_dir() {
-        return Loaded::of(load_folder(path, &log).map(MapSource::Batch), &file, &log);
+        // Each world's messages are named by the world's own file.
+        let mut lines = Vec::new();
+        let result = load_folder(path, &mut lines).map(MapSource::Batch);
+        return Loaded { result, log: lines };
     }
     let scenario = load_file(path, scen.as_deref(), &log);
     Loaded::of(scenario.map(|s| MapSource::Scenario(Arc::new(s))), &file, &log)
@@ -219,29 +222,60 @@ fn load_barn(path: &Path, text: &str, log: &ScriptLog) -> Result<Scenario, Sourc
 }
 
 /// Every world of a folder (`.world`, `.txt`, `.rhai`; not MovingAI maps, which need their
-/// scenario files), in name order with numbers compared as numbers (`world_2` before
-/// `world_10`).
-fn load_folder(dir: &Path, log: &ScriptLog) -> Result<Vec<Arc<Scenario>>, SourceError> {
+/// scenario files), in name order with numbers compared as numbers ([`natural_order`]: `world_2`
+/// before `world_10`); each world's script output and warnings go to `log`, named by its file.
+fn load_folder(dir: &Path, log: &mut Vec<String>) -> Result<Vec<Arc<Scenario>>, SourceError> {
     let file = dir.display().to_string();
     let entries = std::fs::read_dir(dir).map_err(|e| SourceError::new(&file, 0, 0, format!("cannot read: {e}")))?;
     let mut paths: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_file() && matches!(p.extension().and_then(|e| e.to_str()), Some("world" | "txt" | "rhai")))
         .collect();
-    let key = |p: &PathBuf| {
-        let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let digits: String = name.chars().filter(char::is_ascii_digit).collect();
-        let stem: String = name.chars().filter(|c| !c.is_ascii_digit()).collect();
-        (stem, digits.len(), digits, name)
-    };
-    paths.sort_by_key(key);
+    let name = |p: &PathBuf| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    paths.sort_by(|a, b| natural_order(&name(a), &name(b)));
     if paths.is_empty() {
         return Err(SourceError::new(&file, 0, 0, "a folder of worlds needs .world, .txt or .rhai files; it has none"));
     }
     if paths.len() > MAX_FOLDER_WORLDS {
         return Err(SourceError::new(&file, 0, 0, format!("{} worlds: at most {MAX_FOLDER_WORLDS}", paths.len())));
     }
-    paths.iter().map(|p| load_file(p, None, log).map(Arc::new)).collect()
+    paths
+        .iter()
+        .map(|p| {
+            let world_log = ScriptLog::new();
+            let loaded = Loaded::of(load_file(p, None, &world_log), &p.display().to_string(), &world_log);
+            log.extend(loaded.log);
+            loaded.result.map(Arc::new)
+        })
+        .collect()
+}
+
+/// Compares two file names with their runs of digits compared as numbers (`world_9`,
+/// `world_0010`, `world_100`; `a2b10` before `a10b2`), the rest character by character; names
+/// equal so (`w_7`, `w_07`) fall back to plain order, so that the order is total.
+pub fn natural_order(a: &str, b: &str) -> std::cmp::Ordering {
+    /// The name in runs: digits (as the number's digits, leading zeros dropped) or one
+    /// other character.
+    fn runs(s: &str) -> impl Iterator<Item = (bool, &str)> {
+        let mut rest = s;
+        std::iter::from_fn(move || {
+            let first = rest.chars().next()?;
+            let len = if first.is_ascii_digit() {
+                rest.bytes().position(|c| !c.is_ascii_digit()).unwrap_or(rest.len())
+            } else {
+                first.len_utf8()
+            };
+            let (run, tail) = rest.split_at(len);
+            rest = tail;
+            Some((first.is_ascii_digit(), run))
+        })
+    }
+    /// A number before any other character, shorter numbers first.
+    fn key((digits, run): (bool, &str)) -> (bool, usize, &str) {
+        let run = if digits { run.trim_start_matches('0') } else { run };
+        (!digits, if digits { run.len() } else { 0 }, run)
+    }
+    runs(a).map(key).cmp(runs(b).map(key)).then_with(|| a.cmp(b))
 }
 
 /// Most worlds a folder may hold.
@@ -468,6 +502,30 @@ pub fn load_database(dir: &Path) -> Result<Database, Failure> {
     Database::build(clips, skeleton, params, Some(&specs)).map_err(|e| anyhow!("{}: {e}", path.display()).into())
 }
 
+/// Writes `db` as the database directory `dir`, as a whole ([`files::replace_dir`]): a new
+/// directory, then put in place of the old one. What is at `dir` must be nothing, an empty
+/// folder or a strider database holding nothing but what its manifest names; anything else is
+/// refused, naming what strider did not write. `feet` as for [`save_database_with_feet`].
+pub fn write_database(db: &Database, dir: &Path, feet: &[String]) -> Result<(), Failure> {
+    let mut ours = database_files(dir);
+    if !ours.is_empty() {
+        ours.push(PathBuf::from("clips"));
+    }
+    files::replace_dir(dir, &|rel| ours.iter().any(|o| o == rel), |tmp| save_database_with_feet(db, tmp, feet))
+}
+
+/// The files of the database directory `dir`, relative to it: its manifest and the clip files
+/// the manifest names, in its order; none when `dir` holds no strider database manifest.
+pub fn database_files(dir: &Path) -> Vec<PathBuf> {
+    let Ok(text) = files::read_text(&dir.join(MANIFEST)) else { return Vec::new() };
+    match serde_json::from_str::<Manifest>(&text) {
+        Ok(m) if m.format == FORMAT => {
+            std::iter::once(PathBuf::from(MANIFEST)).chain(m.clips.iter().map(PathBuf::from)).collect()
+        }
+        _ => Vec::new(),
+    }
+}
+
 /// Writes `db` as a database directory.
 pub fn save_database(db: &Database, dir: &Path) -> Result<(), Failure> {
     save_database_with_feet(db, dir, &[])
@@ -561,6 +619,13 @@ mod tests {
         );
         let e = MapSpec::parse(Some("random:castle")).unwrap_err();
         assert_eq!(e.file, "random:castle");
+    }
+
+    #[test]
+    fn folders_run_in_name_order_with_numbers_as_numbers() {
+        let mut names = vec!["world_100", "world_0010", "world_9", "a10b2", "a2b10", "w_07", "w_7", "b", "a", "world_"];
+        names.sort_by(|a, b| natural_order(a, b));
+        assert_eq!(names, ["a", "a2b10", "a10b2", "b", "w_07", "w_7", "world_", "world_9", "world_0010", "world_100"]);
     }
 
     #[test]

@@ -16,7 +16,10 @@
 //!   `trajectory.actual.txt` when the trajectories part.
 //!
 //! With [`Settings::update`] (or `STRIDER_UPDATE_GOLDEN=1` in the environment) the goldens are
-//! written instead, and frames left over from a longer earlier run are removed. The command
+//! written instead: the new set in a folder beside the old one, which it then replaces whole
+//! ([`crate::files::replace_dir`]: frames left over from a longer earlier run go with it; a
+//! folder holding anything but a snapshot's files is refused), so an update cut short leaves
+//! the old set as it was. The command
 //! `strider snapshot`, the Rhai function `snapshot(map, rules, seed, dir)` of experiment
 //! scripts and [`check`] from a user's `cargo test` all end in [`check_episode`].
 //!
@@ -49,7 +52,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 use tiny_skia::Pixmap;
 
-use crate::files::write_atomic;
+use crate::files::{self, write_atomic};
 use crate::geom::Aabb;
 use crate::load::{BodyArgs, Failure};
 use crate::render::png::render_png;
@@ -216,6 +219,12 @@ impl From<Failure> for Error {
         match f {
             Failure::Input(e) | Failure::Task(e) => Error::Input(e),
         }
+    }
+}
+
+impl From<std::io::Error> for Error {
+    fn from(e: std::io::Error) -> Self {
+        Error::Input(e.into())
     }
 }
 
@@ -490,6 +499,12 @@ fn is_golden_frame(name: &str) -> bool {
         && (name == FINAL_FRAME || name.starts_with("frame_"))
 }
 
+/// True for the files of a snapshot directory: golden frames and trajectory, and what a failed
+/// check leaves behind.
+fn is_snapshot_file(name: &str) -> bool {
+    is_golden_frame(name) || name == TRAJECTORY_FILE || is_failure_output(name)
+}
+
 /// True for what a failed check leaves behind.
 fn is_failure_output(name: &str) -> bool {
     name.ends_with(".actual.png") || name.ends_with(".diff.png") || name == ACTUAL_TRAJECTORY_FILE
@@ -658,23 +673,28 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
     if update {
         set_view(&mut rec.frames, own_view);
         let traj_text = trajectory::to_text(&about, &Record { view: own_view, samples: rec.samples });
-        std::fs::create_dir_all(dir).map_err(|e| file_error(dir, format!("cannot create: {e}")))?;
-        report.frames = rec
-            .frames
-            .par_iter()
-            .map(|(name, scene)| {
-                write_png(&dir.join(name), &render_png(scene, w, h))?;
-                Ok(FrameResult { name: name.clone(), status: FrameStatus::Written, actual_file: None, diff_file: None })
-            })
-            .collect::<Result<_, Error>>()?;
-        write(&dir.join(TRAJECTORY_FILE), traj_text.as_bytes())?;
-        for name in &existing {
-            let stale = is_golden_frame(name) && !drawn.contains(name);
-            if stale || is_failure_output(name) {
-                remove(&dir.join(name))?;
-                report.removed += 1;
-            }
-        }
+        // The new set is written beside the old one and takes its place whole, so that an
+        // update cut short leaves the old goldens as they were; the folder may hold nothing
+        // but a snapshot's files.
+        let ours = |rel: &Path| rel.parent() == Some(Path::new("")) && rel.to_str().is_some_and(is_snapshot_file);
+        files::replace_dir(dir, &ours, |new: &Path| {
+            report.frames = rec
+                .frames
+                .par_iter()
+                .map(|(name, scene)| {
+                    write_png(&new.join(name), &render_png(scene, w, h))?;
+                    Ok(FrameResult {
+                        name: name.clone(),
+                        status: FrameStatus::Written,
+                        actual_file: None,
+                        diff_file: None,
+                    })
+                })
+                .collect::<Result<_, Error>>()?;
+            write(&new.join(TRAJECTORY_FILE), traj_text.as_bytes())
+        })?;
+        let stale = |name: &&String| (is_golden_frame(name) && !drawn.contains(*name)) || is_failure_output(name);
+        report.removed = existing.iter().filter(stale).count();
         return Ok(report);
     }
     let traj_path = dir.join(TRAJECTORY_FILE);

@@ -21,7 +21,7 @@ use pyo3::types::{PyDict, PyList};
 use pyo3::{IntoPyObjectExt, create_exception};
 
 use strider::cli::merge;
-use strider::cli::run::{DataFormat, MapArgs, PreparedRun, RunArgs, thread_pool};
+use strider::cli::run::{DataFormat, MapArgs, PreparedRun, RunArgs, RunIdentity, thread_pool};
 use strider::experiment::{self, Shard};
 use strider::load::{BodyArgs, BodyKind, Failure};
 
@@ -153,10 +153,14 @@ pub(crate) fn to_python<'py>(py: Python<'py>, value: &serde_json::Value) -> PyRe
     })
 }
 
-/// The object `strider run --format json` prints for `records`.
-fn run_document(records: &[experiment::EpisodeRecord]) -> PyResult<serde_json::Value> {
+/// The object `strider run --format json` prints for `records` (of a shard of the run
+/// `identity`, or of a whole run).
+fn run_document(
+    identity: Option<&RunIdentity>,
+    records: &[experiment::EpisodeRecord],
+) -> PyResult<serde_json::Value> {
     let mut text = Vec::new();
-    strider::cli::run::write_records(&mut text, DataFormat::Json, &experiment::summarize(records), records)
+    strider::cli::run::write_records(&mut text, DataFormat::Json, identity, &experiment::summarize(records), records)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     serde_json::from_slice(&text).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
@@ -192,7 +196,7 @@ fn run(
         }
         records
     })?;
-    Ok(to_python(py, &run_document(&records)?)?.unbind())
+    Ok(to_python(py, &run_document(prepared.identity.as_ref(), &records)?)?.unbind())
 }
 
 /// Joins the JSON texts a run's shards printed into what the whole run prints.
@@ -204,7 +208,7 @@ fn merge_json(py: Python<'_>, outputs: Vec<String>) -> PyResult<Py<PyAny>> {
     let merge::MergedRun::Json(records) = merged else {
         return Err(StriderError::new_err("expected the JSON outputs of strider run"));
     };
-    Ok(to_python(py, &run_document(&records)?)?.unbind())
+    Ok(to_python(py, &run_document(None, &records)?)?.unbind())
 }
 
 /// The episodes of a run of `map` (one per task, or one for random worlds, unless `episodes`).

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import numbers
 import os
 from typing import Dict, Mapping, Optional, Union
 
@@ -67,6 +68,8 @@ class Engine:
         Raises:
             StriderError: an input is missing or not an input of the engine, or the arrays do
                 not broadcast.
+            TypeError: an input is not a number or an array of numbers (``None``, a string, a
+                complex number), anywhere in it.
         """
         if not isinstance(inputs, Mapping):
             raise TypeError(f"process expects a dict of input arrays, found {type(inputs).__name__}")
@@ -77,10 +80,7 @@ class Engine:
         missing = [n for n in names if n not in inputs]
         if missing:
             raise StriderError(f"input {missing[0]!r} is missing (inputs: {', '.join(names)})")
-        try:
-            arrays = [np.asarray(inputs[n], dtype=np.float64) for n in names]
-        except (TypeError, ValueError) as e:
-            raise TypeError(f"inputs must be numbers or numeric arrays: {e}") from None
+        arrays = [_numbers(n, inputs[n]) for n in names]
         try:
             shaped = np.broadcast_arrays(*arrays) if arrays else []
         except ValueError as e:
@@ -92,3 +92,20 @@ class Engine:
 
     def __repr__(self) -> str:
         return repr(self._native)
+
+
+def _numbers(name: str, value: ArrayLike) -> np.ndarray:
+    """``value`` as a float64 array, or a ``TypeError`` naming input ``name`` when it holds
+    anything but real numbers (NumPy alone would turn ``None`` into NaN and ``"1.5"`` into 1.5)."""
+    wanted = f"input {name!r} must be a number or an array of numbers"
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{wanted}: {e}") from None
+    if array.dtype.kind == "O":
+        bad = next((x for x in array.flat if not isinstance(x, numbers.Real)), None)
+        if bad is not None:
+            raise TypeError(f"{wanted}, found {type(bad).__name__}")
+    elif array.dtype.kind not in "biuf":
+        raise TypeError(f"{wanted}, found an array of {array.dtype}")
+    return array.astype(np.float64)

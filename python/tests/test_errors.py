@@ -91,3 +91,15 @@ def test_fuzzy_inputs_are_checked(repo):
         engine.process({"service": np.zeros(2), "food": np.zeros(3)})
     with pytest.raises(TypeError):
         engine.process({n: "high" for n in engine.inputs})
+
+
+@pytest.mark.parametrize("value", [None, "1.5", [1.0, None], np.array(["1"]), 1j, [1.0, [2.0, 3.0]]])
+def test_fuzzy_inputs_that_are_not_numbers_raise_type_errors(repo, value):
+    engine = Engine.from_fll((repo / "tests/fixtures/fuzzy/tipper.fll").read_text())
+    inputs = {name: 1.0 for name in engine.inputs}
+    inputs[engine.inputs[0]] = value
+    with pytest.raises(TypeError, match=repr(engine.inputs[0])):
+        engine.process(inputs)
+    # Numbers of every kind still go in.
+    inputs[engine.inputs[0]] = [True, 2, 3.5, np.float32(1.0)]
+    assert engine.process(inputs)[engine.outputs[0]].shape == (4,)

@@ -22,7 +22,7 @@ use crate::files::{self, outln, write_atomic};
 use crate::lex::{Tok, tokenize};
 use crate::load::{
     BodyArgs, BodyKind, Failure, Outcome, TransitionArg, builtin_database, load_animation, load_database, parse_bvh,
-    same_skeleton, save_database, save_database_with_feet,
+    same_skeleton, write_database,
 };
 
 /// `strider db` subcommands.
@@ -315,7 +315,7 @@ pub fn db(command: DbCommand) -> Outcome {
                 other => other,
             }
             .map_err(|e| anyhow!("{e}"))?;
-            files::replace_dir(&a.out, |dir| save_database_with_feet(&db, dir, &feet))?;
+            write_database(&db, &a.out, &feet)?;
             outln!(
                 "{} intervals from {} clips, K = {}, lengths × {scale}, written to {}",
                 db.intervals.len(),
@@ -368,7 +368,7 @@ pub fn db(command: DbCommand) -> Outcome {
         DbCommand::Strip(a) => super::db_strip::run(a),
         DbCommand::Export { out } => {
             let db = builtin_database()?;
-            files::replace_dir(&out, |dir| save_database(&db, dir))?;
+            write_database(&db, &out, &[])?;
             outln!("{} clips, {} intervals written to {}", db.clips.len(), db.intervals.len(), out.display())?;
             Ok(())
         }

@@ -96,6 +96,8 @@ fn record_map(r: &EpisodeRecord) -> Map {
         .map(|(name, f)| {
             let v = match *f {
                 Field::Count(n) => Dynamic::from_int(i64::try_from(n).unwrap_or(i64::MAX)),
+                // A script's integers are 64-bit signed: a seed is kept whole as its digits.
+                Field::Key(n) => Dynamic::from(n.to_string()),
                 Field::Number(x) => Dynamic::from_float(x),
                 Field::Flag(b) => Dynamic::from_bool(b),
                 Field::Text(t) => Dynamic::from(t.to_string()),

@@ -2,8 +2,12 @@
 //! CSV) into what the whole run prints, byte for byte: the episodes in order and, for JSON, the
 //! summary of them all.
 //!
-//! Invariant: the shards together must hold every episode of the run once, `0..n`; a missing
-//! or repeated episode is an error naming it, never a quietly smaller run.
+//! Invariant: the outputs must be exactly one whole run: each carries its run's identity
+//! ([`RunIdentity`]), all the same run (worlds, rules, body, seed, episode count, shard count,
+//! strider version), every shard `0..N` once, each holding exactly its episodes, every CSV row
+//! whole. Anything else is an error naming the file, never a quietly smaller or mixed run.
+//! Outputs without an identity (a whole run, or shards of a strider that wrote none) are
+//! refused.
 
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
@@ -16,7 +20,7 @@ use crate::experiment::{self, EpisodeRecord};
 use crate::files;
 use crate::load::{Failure, Outcome};
 
-use super::run::{DataFormat, write_records};
+use super::run::{CSV_IDENTITY, DataFormat, RunIdentity, write_records};
 
 /// `strider merge` options.
 #[derive(Debug, Args)]
@@ -47,7 +51,9 @@ impl MergedRun {
     /// What the whole run prints.
     pub fn write(&self, out: &mut impl Write) -> io::Result<()> {
         match self {
-            MergedRun::Json(records) => write_records(out, DataFormat::Json, &experiment::summarize(records), records),
+            MergedRun::Json(records) => {
+                write_records(out, DataFormat::Json, None, &experiment::summarize(records), records)
+            }
             MergedRun::Csv { header, rows, .. } => {
                 if rows.is_empty() {
                     return Ok(());
@@ -97,66 +103,185 @@ pub fn merge(parts: &[(String, String)]) -> Result<MergedRun, SourceError> {
             format!("{first} is {a} but this is {b}: merge outputs of one format"),
         ));
     }
-    if json { merge_json(parts).map(MergedRun::Json) } else { merge_csv(parts) }
+    let shards: Vec<ShardOutput> =
+        parts.iter().map(|(file, text)| if json { read_json(file, text) } else { read_csv(file, text) }).collect::<Result<_, _>>()?;
+    check_whole_run(&shards)?;
+    let mut headers = shards.iter().filter_map(|s| Some((s.header.clone()?, &s.file)));
+    let header = headers.next();
+    if let Some((h, f)) = &header
+        && let Some((_, other)) = headers.find(|(o, _)| o != h)
+    {
+        return Err(SourceError::new(other, 2, 1, format!("the CSV header differs from {f}'s")));
+    }
+    let header = header.map(|(h, _)| h).unwrap_or_default();
+    let mut episodes: Vec<(usize, Episode)> = shards.into_iter().flat_map(|s| s.episodes).collect();
+    episodes.sort_by_key(|(i, _)| *i);
+    if json {
+        return Ok(MergedRun::Json(
+            episodes.into_iter().filter_map(|(_, e)| if let Episode::Record(r) = e { Some(*r) } else { None }).collect(),
+        ));
+    }
+    let failed = episodes.iter().filter(|(_, e)| matches!(e, Episode::Row { failed: true, .. })).count();
+    let rows = episodes.into_iter().filter_map(|(_, e)| if let Episode::Row { line, .. } = e { Some(line) } else { None });
+    Ok(MergedRun::Csv { header, rows: rows.collect(), failed })
+}
+
+/// One episode of a shard's output.
+enum Episode {
+    /// Its JSON record.
+    Record(Box<EpisodeRecord>),
+    /// Its CSV row, and whether it missed the goal or collided.
+    Row {
+        /// The line.
+        line: String,
+        /// Missed the goal or collided.
+        failed: bool,
+    },
+}
+
+/// What one shard's output holds.
+struct ShardOutput {
+    /// Its file name.
+    file: String,
+    /// The run it belongs to.
+    identity: RunIdentity,
+    /// Its CSV header, if it is CSV and has episodes.
+    header: Option<String>,
+    /// Its episodes, numbered, in the order written.
+    episodes: Vec<(usize, Episode)>,
+}
+
+/// The error of an output that carries no run identity.
+fn no_identity(file: &str) -> SourceError {
+    SourceError::new(
+        file,
+        1,
+        1,
+        "carries no run identity: not the output of `strider run --shard I/N` (a whole run's output needs no merging)",
+    )
 }
 
 #[derive(serde::Deserialize)]
 struct RunOutput {
+    run: Option<RunIdentity>,
     episodes: Vec<EpisodeRecord>,
     #[allow(dead_code)]
     summary: serde::de::IgnoredAny,
 }
 
-fn merge_json(parts: &[(String, String)]) -> Result<Vec<EpisodeRecord>, SourceError> {
-    let mut numbered = Vec::new();
-    for (file, text) in parts {
-        let output: RunOutput = serde_json::from_str(text).map_err(|e| {
-            SourceError::new(file, e.line(), e.column(), format!("not the JSON output of strider run: {e}"))
-        })?;
-        numbered.extend(output.episodes.into_iter().map(|r| (r.episode, file.as_str(), r)));
-    }
-    let order = check_episodes(numbered.iter().map(|(i, f, _)| (*i, *f)).collect())?;
-    let mut slots: Vec<Option<EpisodeRecord>> = numbered.into_iter().map(|(_, _, r)| Some(r)).collect();
-    Ok(order.into_iter().filter_map(|k| slots[k].take()).collect())
+fn read_json(file: &str, text: &str) -> Result<ShardOutput, SourceError> {
+    let output: RunOutput = serde_json::from_str(text).map_err(|e| {
+        SourceError::new(file, e.line(), e.column(), format!("not the JSON output of strider run: {e}"))
+    })?;
+    let identity = output.run.ok_or_else(|| no_identity(file))?;
+    let episodes = output.episodes.into_iter().map(|r| (r.episode, Episode::Record(Box::new(r)))).collect();
+    Ok(ShardOutput { file: file.to_string(), identity, header: None, episodes })
 }
 
-fn merge_csv(parts: &[(String, String)]) -> Result<MergedRun, SourceError> {
-    let mut header: Option<(String, &str)> = None;
-    let mut numbered: Vec<(usize, &str, &str, bool)> = Vec::new();
-    for (file, text) in parts {
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.is_empty());
-        let Some((_, head)) = lines.next() else { continue };
-        match &header {
-            Some((h, f)) if h != head => {
-                return Err(SourceError::new(file, 1, 1, format!("the CSV header differs from {f}'s")));
-            }
-            Some(_) => {}
-            None => header = Some((head.to_string(), file)),
+/// The non-empty lines of `text`, numbered from 1.
+fn csv_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines().enumerate().map(|(n, l)| (n + 1, l)).filter(|(_, l)| !l.is_empty())
+}
+
+fn read_csv(file: &str, text: &str) -> Result<ShardOutput, SourceError> {
+    let mut lines = csv_lines(text);
+    let identity = match lines.next() {
+        Some((n, line)) => match line.strip_prefix(CSV_IDENTITY) {
+            Some(id) => serde_json::from_str::<RunIdentity>(id).map_err(|e| {
+                SourceError::new(file, n, CSV_IDENTITY.len() + e.column(), format!("not a run identity: {e}"))
+            })?,
+            None => return Err(no_identity(file)),
+        },
+        None => return Err(no_identity(file)),
+    };
+    // strider ends every line; a last line without its end was cut short.
+    if !text.ends_with('\n') {
+        let n = text.lines().count();
+        return Err(SourceError::new(file, n, 1, "the last line has no end: the output was cut short"));
+    }
+    let mut episodes = Vec::new();
+    let Some((_, head)) = lines.next() else {
+        return Ok(ShardOutput { file: file.to_string(), identity, header: None, episodes });
+    };
+    let names: Vec<String> = csv_cells(head);
+    let column = |name: &str| {
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            SourceError::new(file, 2, 1, format!("not the CSV output of strider run: no '{name}' column"))
+        })
+    };
+    let (reached, collisions) = (column("reached")?, column("collisions")?);
+    if column("episode")? != 0 {
+        return Err(SourceError::new(file, 2, 1, "not the CSV output of strider run: 'episode' is not first"));
+    }
+    for (n, line) in lines {
+        let cells = csv_cells(line);
+        if cells.len() != names.len() {
+            return Err(SourceError::new(
+                file,
+                n,
+                1,
+                format!("the row has {} cells, the header {}: a cut or damaged row", cells.len(), names.len()),
+            ));
         }
-        let names: Vec<&str> = head.split(',').collect();
-        let column = |name: &str| {
-            names.iter().position(|n| *n == name).ok_or_else(|| {
-                SourceError::new(file, 1, 1, format!("not the CSV output of strider run: no '{name}' column"))
-            })
-        };
-        let (reached, collisions) = (column("reached")?, column("collisions")?);
-        if column("episode")? != 0 {
-            return Err(SourceError::new(file, 1, 1, "not the CSV output of strider run: 'episode' is not first"));
+        let episode = cells[0]
+            .parse::<usize>()
+            .map_err(|_| SourceError::new(file, n, 1, "expected the episode number as the row's first cell"))?;
+        let failed = cells[reached] != "true" || cells[collisions] != "0";
+        episodes.push((episode, Episode::Row { line: line.to_string(), failed }));
+    }
+    Ok(ShardOutput { file: file.to_string(), identity, header: Some(head.to_string()), episodes })
+}
+
+/// Checks that `shards` are exactly one whole run: one identity, every shard once, each with
+/// exactly its episodes (and one CSV header, checked by the caller's rows being whole).
+fn check_whole_run(shards: &[ShardOutput]) -> Result<(), SourceError> {
+    let first = &shards[0];
+    let bad_shard = |s: &ShardOutput, e: String| SourceError::new(&s.file, 1, 1, e);
+    let count = first.identity.shard().map_err(|e| bad_shard(first, e))?.count;
+    let mut seen: Vec<Option<&str>> = vec![None; count];
+    for s in shards {
+        if let Some(why) = first.identity.differs(&s.identity) {
+            return Err(bad_shard(s, format!("not a shard of the run in {}: {why}", first.file)));
         }
-        for (n, line) in lines {
-            let cells = csv_cells(line);
-            let episode = cells.first().and_then(|c| c.parse::<usize>().ok()).ok_or_else(|| {
-                SourceError::new(file, n + 1, 1, "expected the episode number as the row's first cell")
-            })?;
-            let cell = |k: usize| cells.get(k).map(String::as_str).unwrap_or("");
-            let failed = cell(reached) != "true" || cell(collisions) != "0";
-            numbered.push((episode, file.as_str(), line, failed));
+        let shard = s.identity.shard().map_err(|e| bad_shard(s, e))?;
+        if let Some(other) = seen[shard.index] {
+            return Err(bad_shard(s, format!("shard {} is also in {other}: give each shard once", s.identity.shard)));
+        }
+        seen[shard.index] = Some(&s.file);
+        let expected = shard.episodes(s.identity.episodes);
+        let held: Vec<usize> = s.episodes.iter().map(|(i, _)| *i).collect();
+        if held != expected {
+            let at = held.iter().zip(&expected).position(|(a, b)| a != b).unwrap_or(held.len().min(expected.len()));
+            let what = match (held.get(at), expected.get(at)) {
+                (Some(h), Some(e)) => format!("episode {h} where episode {e} belongs"),
+                (None, Some(e)) => format!("no episode {e}: the output was cut short"),
+                (Some(h), None) => format!("episode {h}, which is not the shard's"),
+                (None, None) => "other episodes".to_string(),
+            };
+            return Err(bad_shard(
+                s,
+                format!(
+                    "shard {} of a run of {} episodes holds {} episodes, not its {}: {what}",
+                    s.identity.shard,
+                    s.identity.episodes,
+                    held.len(),
+                    expected.len()
+                ),
+            ));
         }
     }
-    let order = check_episodes(numbered.iter().map(|(i, f, _, _)| (*i, *f)).collect())?;
-    let rows: Vec<String> = order.iter().map(|&k| numbered[k].2.to_string()).collect();
-    let failed = numbered.iter().filter(|r| r.3).count();
-    Ok(MergedRun::Csv { header: header.map(|(h, _)| h).unwrap_or_default(), rows, failed })
+    if let Some(missing) = seen.iter().position(Option::is_none) {
+        return Err(SourceError::new(
+            &first.file,
+            0,
+            0,
+            format!(
+                "shard {missing}/{count} of the run is missing ({} of {count} shards given): merge all the shards of the run",
+                seen.iter().flatten().count()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The cells of a CSV line as `strider run` writes it (a cell with a comma or quote is quoted,
@@ -178,34 +303,6 @@ fn csv_cells(line: &str) -> Vec<String> {
         }
     }
     cells
-}
-
-/// The positions of `numbered` (episode, file) in episode order, checking that the episodes
-/// are exactly `0..n`, each once.
-fn check_episodes(numbered: Vec<(usize, &str)>) -> Result<Vec<usize>, SourceError> {
-    let n = numbered.len();
-    let mut at: Vec<Option<usize>> = vec![None; n];
-    for (k, &(episode, file)) in numbered.iter().enumerate() {
-        let Some(slot) = at.get_mut(episode) else {
-            return Err(SourceError::new(
-                file,
-                0,
-                0,
-                format!("episode {episode} is beyond the {n} episodes the outputs hold: is a shard missing?"),
-            ));
-        };
-        if let Some(other) = *slot {
-            return Err(SourceError::new(
-                file,
-                0,
-                0,
-                format!("episode {episode} is also in {}: give each shard once", numbered[other].1),
-            ));
-        }
-        *slot = Some(k);
-    }
-    // n records, each in 0..n, none twice: every slot is filled.
-    Ok(at.into_iter().flatten().collect())
 }
 
 /// `strider merge`.

@@ -1,6 +1,8 @@
 //! `strider run`, `strider gen` and the loading of maps and rule scripts shared by the
 //! navigation commands (seed 000 §3.1 navigation, §4 measurements).
 
+mod identity;
+
 use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
@@ -13,6 +15,7 @@ use crate::experiment::{self, EpisodeRecord, Field, Shard};
 use crate::files;
 use crate::load::{Failure, Outcome, load_map, load_rules};
 pub use crate::load::{MapSource, MapSpec, episode_count, job};
+pub use identity::RunIdentity;
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::text;
 use crate::sim::{LayeredController, StepParameters};
@@ -114,6 +117,8 @@ pub struct PreparedRun {
     pub seed: u64,
     /// The episodes to run: the whole run's, or its shard's.
     pub episodes: Vec<usize>,
+    /// What identifies the run, for a shard's output (`None` for a whole run).
+    pub identity: Option<RunIdentity>,
 }
 
 impl PreparedRun {
@@ -145,7 +150,18 @@ impl PreparedRun {
             ..StepParameters::default()
         };
         let episodes = args.shard.unwrap_or(Shard::WHOLE).episodes(count);
-        Ok(PreparedRun { source, controller, params, seed: args.map.seed, episodes })
+        let identity = match args.shard {
+            Some(shard) => Some(RunIdentity::new(
+                (&args.map.map, &source),
+                (args.map.rules.as_deref(), &controller),
+                &args.body,
+                args.map.seed,
+                count,
+                shard,
+            )?),
+            None => None,
+        };
+        Ok(PreparedRun { source, controller, params, seed: args.map.seed, episodes, identity })
     }
 
     /// Runs `episodes` (some of [`PreparedRun::episodes`]) in parallel on the current rayon
@@ -184,7 +200,9 @@ pub fn run(args: RunArgs) -> Outcome {
         }
         _ => None,
     };
-    let write_failure: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+    // A motion file that cannot be written is reported after the results, which it does not
+    // touch; the other files are still written.
+    let write_failures: std::sync::Mutex<Vec<(usize, anyhow::Error)>> = std::sync::Mutex::new(Vec::new());
     let stepping: std::sync::Mutex<f64> = std::sync::Mutex::new(0.0);
     let each = |e: &experiment::Episode| {
         *stepping.lock().unwrap_or_else(|p| p.into_inner()) += e.stepping_s.unwrap_or(0.0);
@@ -196,7 +214,7 @@ pub fn run(args: RunArgs) -> Outcome {
         if let Err(err) =
             files::write_atomic(&path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))
         {
-            write_failure.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(err);
+            write_failures.lock().unwrap_or_else(|p| p.into_inner()).push((e.record.episode, err));
         }
     };
     let bar = if count > 1 && io::stderr().is_terminal() {
@@ -218,9 +236,6 @@ pub fn run(args: RunArgs) -> Outcome {
     let clock = std::time::Instant::now();
     let records = pool.install(|| prepared.run(&prepared.episodes, &progress, &each));
     let elapsed = clock.elapsed().as_secs_f64();
-    if let Some(err) = write_failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        return Err(err.into());
-    }
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -239,7 +254,7 @@ pub fn run(args: RunArgs) -> Outcome {
         steps as f64 / stepping.max(1e-9)
     );
     let mut out = BufWriter::new(io::stdout().lock());
-    write_records(&mut out, args.format, &summary, &records)?;
+    write_records(&mut out, args.format, prepared.identity.as_ref(), &summary, &records)?;
     out.flush()?;
     let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
     let refused: Vec<_> = records.iter().filter_map(|r| Some((r.episode, r.refusal.as_deref()?))).collect();
@@ -249,10 +264,28 @@ pub fn run(args: RunArgs) -> Outcome {
     if refused.len() > MAX_REFUSALS_SHOWN {
         eprintln!("… and {} more episodes with no way round", refused.len() - MAX_REFUSALS_SHOWN);
     }
-    if failed > 0 {
-        return Err(Failure::Task(anyhow!("{failed} of {} episodes did not reach the goal cleanly", records.len())));
+    let not_reached = (failed > 0).then(|| format!("{failed} of {} episodes did not reach the goal cleanly", records.len()));
+    let mut write_failures = write_failures.into_inner().unwrap_or_else(|p| p.into_inner());
+    if let (false, Some((dir, _, _))) = (write_failures.is_empty(), &motion_out) {
+        write_failures.sort_by_key(|(episode, _)| *episode);
+        for (_, err) in write_failures.iter().take(MAX_REFUSALS_SHOWN) {
+            eprintln!("error: {err:#}");
+        }
+        if write_failures.len() > MAX_REFUSALS_SHOWN {
+            eprintln!("… and {} more motion files not written", write_failures.len() - MAX_REFUSALS_SHOWN);
+        }
+        let also = not_reached.map_or_else(String::new, |m| format!("; {m}"));
+        return Err(Failure::Input(anyhow!(
+            "{} of {} motion files could not be written to {} (the results above are complete){also}",
+            write_failures.len(),
+            records.len(),
+            dir.display()
+        )));
     }
-    Ok(())
+    match not_reached {
+        Some(m) => Err(Failure::Task(anyhow!(m))),
+        None => Ok(()),
+    }
 }
 
 /// The character's skeleton for world-motion files: the root's offset moved into its position
@@ -265,23 +298,34 @@ fn world_skeleton(skeleton: &Skeleton) -> anyhow::Result<Skeleton> {
     Skeleton::new(joints).map_err(|e| anyhow!("cannot export the skeleton: {e}"))
 }
 
+/// The start of the first line of a shard's CSV output, before its [`RunIdentity`] as JSON.
+pub const CSV_IDENTITY: &str = "# strider run: ";
+
 /// Writes a run's episode records and summary in `format`: JSON `{"summary": …, "episodes":
 /// […]}`, or CSV with one header line and one line per episode. Both list the fields of
-/// [`EpisodeRecord::fields`] (CSV leaves the cells of missing values empty). The io error keeps
-/// its kind, so a closed pipe is seen as one.
+/// [`EpisodeRecord::fields`] (CSV leaves the cells of missing values empty). A shard's output
+/// also carries its run's `identity`: JSON as `"run"`, CSV as a first line [`CSV_IDENTITY`] and
+/// the identity as JSON. The io error keeps its kind, so a closed pipe is seen as one.
 pub fn write_records(
     out: &mut impl Write,
     format: DataFormat,
+    identity: Option<&RunIdentity>,
     summary: &experiment::Summary,
     records: &[EpisodeRecord],
 ) -> io::Result<()> {
     match format {
         DataFormat::Json => {
-            let doc = serde_json::json!({ "summary": summary, "episodes": records });
+            let mut doc = serde_json::json!({ "summary": summary, "episodes": records });
+            if let Some(id) = identity {
+                doc["run"] = serde_json::to_value(id).map_err(io::Error::from)?;
+            }
             serde_json::to_writer_pretty(&mut *out, &doc).map_err(io::Error::from)?;
             writeln!(out)
         }
         DataFormat::Csv => {
+            if let Some(id) = identity {
+                writeln!(out, "{CSV_IDENTITY}{}", serde_json::to_string(id).map_err(io::Error::from)?)?;
+            }
             let Some(first) = records.first() else { return Ok(()) };
             let header: Vec<&str> = first.fields().iter().map(|(name, _)| *name).collect();
             writeln!(out, "{}", header.join(","))?;
@@ -307,7 +351,7 @@ pub fn wall_stopwatch() -> crate::sim::footing::StopwatchHandle {
 
 fn csv_cell(f: &Field) -> String {
     match f {
-        Field::Count(v) => v.to_string(),
+        Field::Count(v) | Field::Key(v) => v.to_string(),
         Field::Number(v) => v.to_string(),
         Field::Flag(v) => v.to_string(),
         Field::Text(t) if t.contains([',', '"', '\n', '\r']) => format!("\"{}\"", t.replace('"', "\"\"")),
@@ -429,11 +473,11 @@ mod tests {
         let records = [record(true), record(false)];
         let summary = experiment::summarize(&records);
         let mut json = Vec::new();
-        write_records(&mut json, DataFormat::Json, &summary, &records).unwrap();
+        write_records(&mut json, DataFormat::Json, None, &summary, &records).unwrap();
         let doc: serde_json::Value = serde_json::from_slice(&json).unwrap();
         let keys: Vec<String> = doc["episodes"][0].as_object().unwrap().keys().cloned().collect();
         let mut csv = Vec::new();
-        write_records(&mut csv, DataFormat::Csv, &summary, &records).unwrap();
+        write_records(&mut csv, DataFormat::Csv, None, &summary, &records).unwrap();
         let csv = String::from_utf8(csv).unwrap();
         let mut lines = csv.lines();
         let mut header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
