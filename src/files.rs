@@ -246,6 +246,41 @@ fn first_foreign(dir: &Path, rel: &Path, owned: &dyn Fn(&Path) -> bool) -> io::R
     Ok(None)
 }
 
+/// Puts every entry under `old` that `owned` does not claim at the same place under `new`:
+/// a hard link to it (to the link itself for a symbolic link), folders made anew with their
+/// permissions; claimed folders are looked into. An entry `new` already holds is an error.
+fn keep_foreign(old: &Path, new: &Path, rel: &Path, owned: &dyn Fn(&Path) -> bool) -> io::Result<()> {
+    for e in std::fs::read_dir(old.join(rel))? {
+        let e = e?;
+        let name = rel.join(e.file_name());
+        let is_dir = e.file_type()?.is_dir();
+        if owned(&name) {
+            // A claimed folder the new set lacks is made for what it holds of the user's.
+            let made = is_dir && !new.join(&name).is_dir() && std::fs::create_dir(new.join(&name)).is_ok();
+            if is_dir {
+                keep_foreign(old, new, &name, owned)?;
+            }
+            if made {
+                let _ = std::fs::remove_dir(new.join(&name));
+            }
+            continue;
+        }
+        let at = new.join(&name);
+        if std::fs::symlink_metadata(&at).is_ok() {
+            return Err(io::Error::other(format!("cannot keep {}: strider writes one of that name", name.display())));
+        }
+        let keep = |e: io::Error| io::Error::other(format!("cannot keep {}: {e}", name.display()));
+        if is_dir {
+            std::fs::create_dir(&at).map_err(keep)?;
+            std::fs::set_permissions(&at, e.metadata()?.permissions()).map_err(keep)?;
+            keep_foreign(old, new, &name, &|_| false)?;
+        } else {
+            std::fs::hard_link(e.path(), &at).map_err(keep)?;
+        }
+    }
+    Ok(())
+}
+
 /// Swaps the directories `a` and `b` in one step where the system can (Linux's
 /// `renameat2(RENAME_EXCHANGE)`); `false` where it cannot.
 fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
@@ -265,18 +300,30 @@ fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
     }
 }
 
+/// What [`replace_dir`] does with the entries of the old directory that its writer does not
+/// claim (the user's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Others {
+    /// Refuse to write: nothing happens, and the error names the first such entry.
+    Refuse,
+    /// Keep them: each goes into the new directory as it was (a hard link to the same file,
+    /// folders made anew around them) before it takes the old one's place.
+    Keep,
+}
+
 /// Writes the directory `dir` as a whole: `fill` fills a fresh temporary directory beside it,
 /// which then takes `dir`'s place in one step (Linux swaps the two; elsewhere the old one is
 /// moved aside first), and the old directory is removed. A link to a directory is followed
 /// (the directory it names is replaced, the link kept).
 ///
-/// What is already at `dir` must be strider's to replace: nothing, an empty directory, or a
-/// directory every entry of which (a path relative to `dir`) `owned` claims; anything else
-/// (a file, a foreign entry, a link inside) is an error naming it, and nothing is written. If
-/// `fill` fails, `dir` is left as it was. Every error names `dir`.
+/// What is replaced is only what `owned` claims (paths relative to `dir`; a claimed folder's
+/// entries are asked about in turn); `others` says what becomes of the rest. A file where the
+/// folder should be is an error. If `fill` fails, or an entry cannot be kept, `dir` is left
+/// as it was. Every error names `dir`.
 pub fn replace_dir<E: From<io::Error>>(
     dir: &Path,
     owned: &dyn Fn(&Path) -> bool,
+    others: Others,
     fill: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), E> {
     let named = |shown: &str, message: &dyn fmt::Display| io::Error::other(format!("{shown}: {message}"));
@@ -305,7 +352,10 @@ pub fn replace_dir<E: From<io::Error>>(
         Err(e) if e.kind() == io::ErrorKind::NotFound => false,
         Err(e) => return Err(fail(e).into()),
     };
-    if exists && let Some(foreign) = first_foreign(&target, Path::new(""), owned).map_err(fail)? {
+    if exists
+        && others == Others::Refuse
+        && let Some(foreign) = first_foreign(&target, Path::new(""), owned).map_err(fail)?
+    {
         let why = format!(
             "holds {}, which strider did not write: give a new or empty folder (strider replaces only what it wrote)",
             foreign.display()
@@ -315,6 +365,9 @@ pub fn replace_dir<E: From<io::Error>>(
     std::fs::create_dir_all(parent_of(&target)).map_err(fail)?;
     let tmp = TempPath::dir_beside(&target).map_err(fail)?;
     fill(&tmp.path)?;
+    if exists && others == Others::Keep {
+        keep_foreign(&target, &tmp.path, Path::new(""), owned).map_err(fail)?;
+    }
     if !exists {
         return Ok(tmp.persist(&target).map_err(fail)?);
     }
@@ -375,10 +428,10 @@ mod tests {
 
         let db = dir.join("db");
         let all: &dyn Fn(&Path) -> bool = &|_| true;
-        replace_dir(&db, all, |d| std::fs::write(d.join("a"), "1")).unwrap();
-        replace_dir(&db, all, |d| std::fs::write(d.join("b"), "2")).unwrap();
+        replace_dir(&db, all, Others::Refuse, |d| std::fs::write(d.join("a"), "1")).unwrap();
+        replace_dir(&db, all, Others::Refuse, |d| std::fs::write(d.join("b"), "2")).unwrap();
         assert!(!db.join("a").exists() && db.join("b").exists());
-        let failed: Result<(), io::Error> = replace_dir(&db, all, |d| {
+        let failed: Result<(), io::Error> = replace_dir(&db, all, Others::Refuse, |d| {
             std::fs::write(d.join("c"), "3")?;
             Err(io::Error::other("half-way"))
         });
@@ -445,7 +498,7 @@ mod tests {
         use std::os::unix::fs::symlink;
         let dir = scratch("replace");
         let out = dir.join("out");
-        let ours: &dyn Fn(&Path) -> bool = &|p| p == Path::new("data") || p.starts_with("data/") || p == Path::new("m");
+        let ours: &dyn Fn(&Path) -> bool = &|p| ["data", "data/x", "m"].iter().any(|o| p == Path::new(o));
         let fill = |d: &Path| -> io::Result<()> {
             std::fs::create_dir(d.join("data"))?;
             std::fs::write(d.join("data/x"), "new")?;
@@ -453,26 +506,40 @@ mod tests {
         };
         // Empty: taken.
         std::fs::create_dir(&out).unwrap();
-        replace_dir(&out, ours, fill).unwrap();
+        replace_dir(&out, ours, Others::Refuse, fill).unwrap();
         assert_eq!(std::fs::read(out.join("data/x")).unwrap(), b"new");
         // Foreign entries, at the top or further in: refused, named, untouched.
         std::fs::write(out.join("precious.txt"), "mine").unwrap();
-        let e = replace_dir(&out, ours, fill).unwrap_err().to_string();
+        let e = replace_dir(&out, ours, Others::Refuse, fill).unwrap_err().to_string();
         assert!(e.contains("precious.txt") && e.contains(&out.display().to_string()), "{e}");
         assert_eq!(std::fs::read(out.join("precious.txt")).unwrap(), b"mine");
         std::fs::remove_file(out.join("precious.txt")).unwrap();
         symlink("/etc", out.join("data/link")).unwrap();
-        let e = replace_dir(&out, ours, fill).unwrap_err().to_string();
+        let e = replace_dir(&out, ours, Others::Refuse, fill).unwrap_err().to_string();
         assert!(e.contains("data/link"), "{e}");
         std::fs::remove_file(out.join("data/link")).unwrap();
+        // Or kept: the same files, linked into the new folder.
+        std::fs::create_dir_all(out.join("data/mine")).unwrap();
+        std::fs::write(out.join("data/mine/a"), "a").unwrap();
+        std::fs::write(out.join("notes"), "n").unwrap();
+        symlink("/etc", out.join("data/link")).unwrap();
+        std::fs::write(out.join("data/x"), "old").unwrap();
+        replace_dir(&out, ours, Others::Keep, fill).unwrap();
+        assert_eq!(std::fs::read(out.join("data/x")).unwrap(), b"new");
+        assert_eq!(std::fs::read(out.join("data/mine/a")).unwrap(), b"a");
+        assert_eq!(std::fs::read(out.join("notes")).unwrap(), b"n");
+        assert_eq!(std::fs::read_link(out.join("data/link")).unwrap(), Path::new("/etc"));
+        for p in ["data/mine", "notes", "data/link"] {
+            let _ = std::fs::remove_file(out.join(p)).or_else(|_| std::fs::remove_dir_all(out.join(p)));
+        }
         // A file is no folder.
         std::fs::write(dir.join("file"), "f").unwrap();
-        assert!(replace_dir(&dir.join("file"), ours, fill).is_err());
+        assert!(replace_dir(&dir.join("file"), ours, Others::Refuse, fill).is_err());
         assert_eq!(std::fs::read(dir.join("file")).unwrap(), b"f");
         // A link to a folder: the folder is replaced, the link kept.
         std::fs::write(out.join("data/x"), "old").unwrap();
         symlink(&out, dir.join("link")).unwrap();
-        replace_dir(&dir.join("link"), ours, fill).unwrap();
+        replace_dir(&dir.join("link"), ours, Others::Refuse, fill).unwrap();
         assert!(std::fs::symlink_metadata(dir.join("link")).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read(out.join("data/x")).unwrap(), b"new");
         // Nothing left beside.

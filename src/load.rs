@@ -511,7 +511,8 @@ pub fn write_database(db: &Database, dir: &Path, feet: &[String]) -> Result<(), 
     if !ours.is_empty() {
         ours.push(PathBuf::from("clips"));
     }
-    files::replace_dir(dir, &|rel| ours.iter().any(|o| o == rel), |tmp| save_database_with_feet(db, tmp, feet))
+    let owned = |rel: &Path| ours.iter().any(|o| o == rel);
+    files::replace_dir(dir, &owned, files::Others::Refuse, |tmp| save_database_with_feet(db, tmp, feet))
 }
 
 /// The files of the database directory `dir`, relative to it: its manifest and the clip files

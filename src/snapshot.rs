@@ -17,9 +17,9 @@
 //!
 //! With [`Settings::update`] (or `STRIDER_UPDATE_GOLDEN=1` in the environment) the goldens are
 //! written instead: the new set in a folder beside the old one, which it then replaces whole
-//! ([`crate::files::replace_dir`]: frames left over from a longer earlier run go with it; a
-//! folder holding anything but a snapshot's files is refused), so an update cut short leaves
-//! the old set as it was. The command
+//! ([`crate::files::replace_dir`]: frames left over from a longer earlier run go with it, the
+//! folder's other files are kept), so an update cut short leaves the old set as it was. The
+//! command
 //! `strider snapshot`, the Rhai function `snapshot(map, rules, seed, dir)` of experiment
 //! scripts and [`check`] from a user's `cargo test` all end in [`check_episode`].
 //!
@@ -674,10 +674,10 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
         set_view(&mut rec.frames, own_view);
         let traj_text = trajectory::to_text(&about, &Record { view: own_view, samples: rec.samples });
         // The new set is written beside the old one and takes its place whole, so that an
-        // update cut short leaves the old goldens as they were; the folder may hold nothing
-        // but a snapshot's files.
+        // update cut short leaves the old goldens as they were; the folder's other files
+        // come along.
         let ours = |rel: &Path| rel.parent() == Some(Path::new("")) && rel.to_str().is_some_and(is_snapshot_file);
-        files::replace_dir(dir, &ours, |new: &Path| {
+        files::replace_dir(dir, &ours, files::Others::Keep, |new: &Path| {
             report.frames = rec
                 .frames
                 .par_iter()

@@ -1,5 +1,6 @@
 //! `strider run --shard I/N` and `strider merge`: the shards of a run, merged, print exactly
-//! what the whole run prints, in JSON and in CSV; a missing or repeated shard is an error.
+//! what the whole run prints, in JSON and in CSV; a missing or repeated shard is an error
+//! (`tests/nothing_lost.rs` holds the shards of other runs and cut outputs).
 
 mod common;
 
@@ -80,7 +81,7 @@ fn missing_or_repeated_shards_and_bad_shards_are_refused() {
     let (_, files) = whole_and_shards("missing", &args, 2);
     let missing = strider(&["merge", &files[1]]);
     assert_eq!(missing.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&missing.stderr).contains("is a shard missing?"));
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("shard 0/2 of the run is missing"));
     let twice = strider(&["merge", &files[0], &files[1], &files[0]]);
     assert_eq!(twice.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&twice.stderr).contains("give each shard once"));

@@ -2,6 +2,7 @@
 //! Each test crate takes what it needs (`mod common;`), so not every helper is used by every crate.
 #![allow(dead_code)]
 
+use std::path::Path;
 use std::process::{Command, Output};
 
 /// Runs the `strider` binary built with these tests, from the repository root (where `maps/`
@@ -13,12 +14,23 @@ pub fn strider(args: &[&str]) -> Output {
 /// As [`strider`], with extra environment variables. The switch that writes snapshot goldens
 /// is never inherited from the environment the tests run in.
 pub fn strider_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_strider"));
-    command.args(args).current_dir(env!("CARGO_MANIFEST_DIR")).env_remove("STRIDER_UPDATE_GOLDEN");
+    let mut command = strider_command(args);
     for (key, value) in env {
         command.env(key, value);
     }
     command.output().expect("run the strider binary")
+}
+
+/// As [`strider`], run from the folder `dir` instead of the repository root.
+pub fn strider_in(dir: &Path, args: &[&str]) -> Output {
+    strider_command(args).current_dir(dir).output().expect("run the strider binary")
+}
+
+/// The command [`strider`] runs, not started yet (to start it and act while it runs).
+pub fn strider_command(args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_strider"));
+    command.args(args).current_dir(env!("CARGO_MANIFEST_DIR")).env_remove("STRIDER_UPDATE_GOLDEN");
+    command
 }
 
 /// The binary's standard output as text.
