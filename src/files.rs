@@ -344,7 +344,11 @@ pub fn replace_dir<E: From<io::Error>>(
     }
     // Replaced whole, the working folder would leave the shell in a removed one.
     if std::env::current_dir().and_then(std::fs::canonicalize).is_ok_and(|cwd| cwd == target) {
-        return Err(named(&shown, &"is the current folder, which strider cannot replace whole: give a folder inside it").into());
+        return Err(named(
+            &shown,
+            &"is the current folder, which strider cannot replace whole: give a folder inside it",
+        )
+        .into());
     }
     let exists = match std::fs::symlink_metadata(&target) {
         Ok(m) if m.is_dir() => true,

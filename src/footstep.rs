@@ -379,7 +379,9 @@ mod tests {
         assert!((p.leg.foot_length_m() - 0.24).abs() < 1e-12);
         let d = LegGeometry::default();
         assert!((p.leg.heel_back_m / 0.24 - d.heel_back_m / d.foot_length_m()).abs() < 1e-12);
-        for (value, text) in [(2.0, "foot_length_m = 2 is out"), (0.0, "foot_length_m = 0 is out"), (1e300, "= 1e300 is")] {
+        for (value, text) in
+            [(2.0, "foot_length_m = 2 is out"), (0.0, "foot_length_m = 0 is out"), (1e300, "= 1e300 is")]
+        {
             let e = set(&[("foot_length_m", value)]).validate().unwrap_err().to_string();
             assert!(e.contains(text), "{e}");
         }

@@ -337,7 +337,8 @@ fn a_folder_of_worlds_runs_in_numeric_order_and_warnings_name_the_world() {
     .unwrap();
     let o = strider(&["run", s(&dir), "--body", "disc"]);
     let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let order: Vec<&str> = doc["episodes"].as_array().unwrap().iter().map(|e| e["scenario"].as_str().unwrap()).collect();
+    let order: Vec<&str> =
+        doc["episodes"].as_array().unwrap().iter().map(|e| e["scenario"].as_str().unwrap()).collect();
     assert_eq!(order, ["a2b10", "a10b2", "world_3", "world_9", "world_0010", "world_100"]);
     let err = stderr(&o);
     assert!(err.contains(&format!("{}: no path_N.npy", s(&dir.join("world_3.world")))), "{err}");

@@ -155,10 +155,7 @@ pub(crate) fn to_python<'py>(py: Python<'py>, value: &serde_json::Value) -> PyRe
 
 /// The object `strider run --format json` prints for `records` (of a shard of the run
 /// `identity`, or of a whole run).
-fn run_document(
-    identity: Option<&RunIdentity>,
-    records: &[experiment::EpisodeRecord],
-) -> PyResult<serde_json::Value> {
+fn run_document(identity: Option<&RunIdentity>, records: &[experiment::EpisodeRecord]) -> PyResult<serde_json::Value> {
     let mut text = Vec::new();
     strider::cli::run::write_records(&mut text, DataFormat::Json, identity, &experiment::summarize(records), records)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;

@@ -103,9 +103,9 @@ def _numbers(name: str, value: ArrayLike) -> np.ndarray:
     except (TypeError, ValueError) as e:
         raise TypeError(f"{wanted}: {e}") from None
     if array.dtype.kind == "O":
-        bad = next((x for x in array.flat if not isinstance(x, numbers.Real)), None)
-        if bad is not None:
-            raise TypeError(f"{wanted}, found {type(bad).__name__}")
+        bad = [x for x in array.flat if not isinstance(x, numbers.Real)]
+        if bad:
+            raise TypeError(f"{wanted}, found {type(bad[0]).__name__}")
     elif array.dtype.kind not in "biuf":
         raise TypeError(f"{wanted}, found an array of {array.dtype}")
     return array.astype(np.float64)

@@ -103,8 +103,10 @@ pub fn merge(parts: &[(String, String)]) -> Result<MergedRun, SourceError> {
             format!("{first} is {a} but this is {b}: merge outputs of one format"),
         ));
     }
-    let shards: Vec<ShardOutput> =
-        parts.iter().map(|(file, text)| if json { read_json(file, text) } else { read_csv(file, text) }).collect::<Result<_, _>>()?;
+    let shards: Vec<ShardOutput> = parts
+        .iter()
+        .map(|(file, text)| if json { read_json(file, text) } else { read_csv(file, text) })
+        .collect::<Result<_, _>>()?;
     check_whole_run(&shards)?;
     let mut headers = shards.iter().filter_map(|s| Some((s.header.clone()?, &s.file)));
     let header = headers.next();
@@ -118,11 +120,15 @@ pub fn merge(parts: &[(String, String)]) -> Result<MergedRun, SourceError> {
     episodes.sort_by_key(|(i, _)| *i);
     if json {
         return Ok(MergedRun::Json(
-            episodes.into_iter().filter_map(|(_, e)| if let Episode::Record(r) = e { Some(*r) } else { None }).collect(),
+            episodes
+                .into_iter()
+                .filter_map(|(_, e)| if let Episode::Record(r) = e { Some(*r) } else { None })
+                .collect(),
         ));
     }
     let failed = episodes.iter().filter(|(_, e)| matches!(e, Episode::Row { failed: true, .. })).count();
-    let rows = episodes.into_iter().filter_map(|(_, e)| if let Episode::Row { line, .. } = e { Some(line) } else { None });
+    let rows =
+        episodes.into_iter().filter_map(|(_, e)| if let Episode::Row { line, .. } = e { Some(line) } else { None });
     Ok(MergedRun::Csv { header, rows: rows.collect(), failed })
 }
 

@@ -15,10 +15,10 @@ use crate::experiment::{self, EpisodeRecord, Field, Shard};
 use crate::files;
 use crate::load::{Failure, Outcome, load_map, load_rules};
 pub use crate::load::{MapSource, MapSpec, episode_count, job};
-pub use identity::RunIdentity;
 use crate::maps::kind::{self, WorldKind};
 use crate::maps::text;
 use crate::sim::{LayeredController, StepParameters};
+pub use identity::RunIdentity;
 
 /// Options shared by `run` and `render`.
 #[derive(Debug, Args)]
@@ -264,7 +264,8 @@ pub fn run(args: RunArgs) -> Outcome {
     if refused.len() > MAX_REFUSALS_SHOWN {
         eprintln!("… and {} more episodes with no way round", refused.len() - MAX_REFUSALS_SHOWN);
     }
-    let not_reached = (failed > 0).then(|| format!("{failed} of {} episodes did not reach the goal cleanly", records.len()));
+    let not_reached =
+        (failed > 0).then(|| format!("{failed} of {} episodes did not reach the goal cleanly", records.len()));
     let mut write_failures = write_failures.into_inner().unwrap_or_else(|p| p.into_inner());
     if let (false, Some((dir, _, _))) = (write_failures.is_empty(), &motion_out) {
         write_failures.sort_by_key(|(episode, _)| *episode);
