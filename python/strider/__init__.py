@@ -71,7 +71,9 @@ def run(
 def merge(outputs: Iterable[Union[dict, str]]) -> dict:
     """Join the outputs of a run's shards (dicts from ``run(..., shard=(I, N))`` for every I, or
     the JSON texts ``strider run --shard I/N`` printed) into what the whole run returns, as
-    ``strider merge`` does."""
+    ``strider merge`` does: each carries its run's identity (``"run"``), and anything but
+    exactly one whole run (a shard missing or repeated, shards of another run, a shard cut
+    short) raises :class:`StriderError`."""
     texts = [o if isinstance(o, str) else json.dumps(o) for o in outputs]
     return _merge_json(texts)
 

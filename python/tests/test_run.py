@@ -71,6 +71,18 @@ def test_merge_refuses_a_missing_shard():
         strider.merge([parts[0], parts[0], parts[1]])
 
 
+def test_merge_refuses_shards_of_another_run_and_seeds_are_strings():
+    parts = [strider.run("random:semi", episodes=4, body="disc", seed=9, shard=(i, 2)) for i in range(2)]
+    other = strider.run("random:semi", episodes=4, body="disc", seed=8, shard=(1, 2))
+    assert parts[0]["run"]["shard"] == "0/2" and parts[0]["run"]["seed"] == "9"
+    with pytest.raises(strider.StriderError, match="another seed"):
+        strider.merge([parts[0], other])
+    with pytest.raises(strider.StriderError, match="no run identity"):
+        strider.merge([strider.run("random:semi", episodes=4, body="disc", seed=9)])
+    seed = parts[0]["episodes"][0]["seed"]
+    assert isinstance(seed, str) and int(seed) > 2**53
+
+
 def test_a_run_that_misses_its_goal_is_data(repo, monkeypatch):
     monkeypatch.chdir(repo)
     doc = strider.run("random:maze", episodes=1, body="disc", seed=1)

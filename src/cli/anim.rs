@@ -50,7 +50,7 @@ pub enum DbCommand {
     Strip(super::db_strip::StripArgs),
     /// Write the built-in generated clips as a database directory of BVH files.
     Export {
-        /// Output directory.
+        /// Output directory: new, empty, or a strider database, which is replaced whole.
         #[arg(long)]
         out: PathBuf,
     },
@@ -62,7 +62,7 @@ pub struct BuildArgs {
     /// BVH files, one clip each.
     #[arg(long, num_args = 1.., required = true)]
     pub bvh: Vec<PathBuf>,
-    /// Output directory (created if missing).
+    /// Output directory: new, empty, or a strider database, which is replaced whole.
     #[arg(long)]
     pub out: PathBuf,
     /// Length unit of the files in metres (CMU files: 0.056444). Without it the unit is read

@@ -25,7 +25,8 @@ use super::run::{CSV_IDENTITY, DataFormat, RunIdentity, write_records};
 /// `strider merge` options.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// The outputs of `strider run --shard I/N` for every I, all JSON or all CSV, any order.
+    /// The outputs of `strider run --shard I/N` for every I of one run, all JSON or all CSV,
+    /// any order.
     #[arg(required = true, num_args = 1..)]
     pub files: Vec<PathBuf>,
 }
