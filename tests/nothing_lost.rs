@@ -255,6 +255,16 @@ fn merge_refuses_what_is_not_exactly_one_whole_run() {
     std::fs::write(&map, world("6")).unwrap();
     let second = shards(&dir, "m2", &on_map, 2, "json");
     refused(&[&first[0], &second[1]], "another worlds");
+    // Counts no run has are refused, not allocated.
+    let text = std::fs::read_to_string(j[0]).unwrap();
+    for (name, from, to, needle) in [
+        ("huge_count.json", "\"shard\": \"0/3\"", "\"shard\": \"0/18446744073709551615\"", "not its"),
+        ("huge_run.json", "\"episodes\": 5,", "\"episodes\": 18446744073709551615,", "strider runs 1 to"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        std::fs::write(dir.join(name), text.replace(from, to)).unwrap();
+        refused(&[s(&dir.join(name))], needle);
+    }
     // The whole set merges, in any order.
     let o = strider(&["merge", j[2], j[0], j[1]]);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -9,6 +9,7 @@
 //! Outputs without an identity (a whole run, or shards of a strider that wrote none) are
 //! refused.
 
+use std::collections::BTreeMap;
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
@@ -20,7 +21,7 @@ use crate::experiment::{self, EpisodeRecord};
 use crate::files;
 use crate::load::{Failure, Outcome};
 
-use super::run::{CSV_IDENTITY, DataFormat, RunIdentity, write_records};
+use super::run::{CSV_IDENTITY, DataFormat, MAX_EPISODES, RunIdentity, write_records};
 
 /// `strider merge` options.
 #[derive(Debug, Args)]
@@ -245,16 +246,22 @@ fn check_whole_run(shards: &[ShardOutput]) -> Result<(), SourceError> {
     let first = &shards[0];
     let bad_shard = |s: &ShardOutput, e: String| SourceError::new(&s.file, 1, 1, e);
     let count = first.identity.shard().map_err(|e| bad_shard(first, e))?.count;
-    let mut seen: Vec<Option<&str>> = vec![None; count];
+    // Which file holds each shard given (at most one per output, whatever the count says).
+    let mut seen: BTreeMap<usize, &str> = BTreeMap::new();
     for s in shards {
         if let Some(why) = first.identity.differs(&s.identity) {
             return Err(bad_shard(s, format!("not a shard of the run in {}: {why}", first.file)));
         }
+        if !(1..=MAX_EPISODES).contains(&s.identity.episodes) {
+            return Err(bad_shard(
+                s,
+                format!("a run of {} episodes: strider runs 1 to {MAX_EPISODES}", s.identity.episodes),
+            ));
+        }
         let shard = s.identity.shard().map_err(|e| bad_shard(s, e))?;
-        if let Some(other) = seen[shard.index] {
+        if let Some(other) = seen.insert(shard.index, &s.file) {
             return Err(bad_shard(s, format!("shard {} is also in {other}: give each shard once", s.identity.shard)));
         }
-        seen[shard.index] = Some(&s.file);
         let expected = shard.episodes(s.identity.episodes);
         let held: Vec<usize> = s.episodes.iter().map(|(i, _)| *i).collect();
         if held != expected {
@@ -277,14 +284,15 @@ fn check_whole_run(shards: &[ShardOutput]) -> Result<(), SourceError> {
             ));
         }
     }
-    if let Some(missing) = seen.iter().position(Option::is_none) {
+    // With fewer shards given than the count, one of the first of them is missing.
+    if let Some(missing) = (0..count).find(|i| !seen.contains_key(i)) {
         return Err(SourceError::new(
             &first.file,
             0,
             0,
             format!(
                 "shard {missing}/{count} of the run is missing ({} of {count} shards given): merge all the shards of the run",
-                seen.iter().flatten().count()
+                seen.len()
             ),
         ));
     }
