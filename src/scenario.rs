@@ -10,13 +10,77 @@ use glam::DVec2;
 
 use crate::geom::Shape;
 use crate::world::obstacle::Band;
-use crate::world::{Obstacle, Task, Terrain, World};
+use crate::world::terrain::TerrainFeature;
+use crate::world::{Obstacle, ObstacleShape, Task, Terrain, World};
 
 /// Default agent radius, metres.
 pub const DEFAULT_AGENT_RADIUS: f64 = 0.3;
 
 /// Largest start or goal coordinate, metres: worlds are at most 200 km across.
 pub const MAX_COORDINATE_M: f64 = 100_000.0;
+
+/// Most obstacles a world may hold, and most terrain features: far beyond any map (a BARN
+/// world has a few hundred cylinders), and few enough that what a world costs to build, index
+/// and plan over stays bounded. Text worlds, BARN worlds and map scripts count what they read
+/// with a [`WorldBudget`]; a MovingAI map is bounded by its cells.
+pub const MAX_OBSTACLES: usize = 100_000;
+
+/// Most convex parts the obstacles and terrain features of a world may have together (a
+/// `poly` outline has as many as it splits into): the reference planner keeps some 70 corners
+/// for each, so this keeps its graph within a gigabyte or two.
+pub const MAX_PARTS: usize = 200_000;
+
+/// Most outline points (`convex` and `poly`) the obstacles and terrain features of a world
+/// may have together; one outline has at most
+/// [`MAX_OUTLINE_POINTS`](crate::world::obstacle::MAX_OUTLINE_POINTS).
+pub const MAX_POINTS: usize = 1_000_000;
+
+/// What a world read so far holds, counted against [`MAX_OBSTACLES`], [`MAX_PARTS`] and
+/// [`MAX_POINTS`] as each obstacle or terrain feature is built (the cost of building one is
+/// bounded by its outline), so an oversized world is refused at the item that overflows it.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WorldBudget {
+    obstacles: usize,
+    features: usize,
+    parts: usize,
+    points: usize,
+}
+
+impl WorldBudget {
+    /// Counts an obstacle; the error says which bound it passes.
+    pub fn obstacle(&mut self, o: &Obstacle) -> Result<(), String> {
+        self.obstacles += 1;
+        if self.obstacles > MAX_OBSTACLES {
+            return Err(format!("more than {MAX_OBSTACLES} obstacles"));
+        }
+        self.outline(&o.shape, o.parts.len())
+    }
+
+    /// Counts a terrain feature; the error says which bound it passes.
+    pub fn feature(&mut self, f: &TerrainFeature) -> Result<(), String> {
+        self.features += 1;
+        if self.features > MAX_OBSTACLES {
+            return Err(format!("more than {MAX_OBSTACLES} terrain features"));
+        }
+        self.outline(&f.shape, f.parts().len())
+    }
+
+    fn outline(&mut self, shape: &ObstacleShape, parts: usize) -> Result<(), String> {
+        self.parts += parts;
+        if self.parts > MAX_PARTS {
+            return Err(format!("more than {MAX_PARTS} convex parts in all (a `poly` counts the pieces it splits into)"));
+        }
+        self.points += match shape {
+            ObstacleShape::Convex { points } => points.len(),
+            ObstacleShape::Polygon { outline } => outline.len(),
+            ObstacleShape::Box { .. } | ObstacleShape::Cylinder { .. } => 0,
+        };
+        if self.points > MAX_POINTS {
+            return Err(format!("more than {MAX_POINTS} outline points in all"));
+        }
+        Ok(())
+    }
+}
 
 /// A world description with its tasks.
 #[derive(Debug, Clone)]

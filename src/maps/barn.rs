@@ -12,7 +12,7 @@
 use glam::DVec2;
 
 use crate::diagnostic::SourceError;
-use crate::scenario::{Reference, Scenario};
+use crate::scenario::{MAX_OBSTACLES, Reference, Scenario};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, World};
 
 /// Where the challenge starts: (−2.25, 3), facing +y.
@@ -25,8 +25,8 @@ pub const GOAL_RADIUS_M: f64 = 1.0;
 pub const TIME_LIMIT_S: f64 = 100.0;
 /// Side of the path's grid cells, metres (the cylinders' diameter).
 pub const CELL_M: f64 = 0.15;
-/// Most cylinders a world may hold.
-const MAX_CYLINDERS: usize = 100_000;
+/// Rows and columns of the challenge's map: its path's cells lie on a 30 × 30 grid (4.5 m square).
+pub const GRID_CELLS: i64 = 30;
 /// Most cells a path may hold.
 const MAX_PATH_CELLS: usize = 1_000_000;
 
@@ -36,8 +36,9 @@ pub fn cell_point(row: i64, column: i64) -> DVec2 {
     DVec2::new(row as f64 * CELL_M - r - 30.0 * CELL_M, column as f64 * CELL_M + r + 5.0)
 }
 
-/// The reference path's cells from the bytes of a `path_N.npy` file (an integer or float array
-/// of shape (n, 2)).
+/// The reference path's cells from the bytes of a `path_N.npy` file: an integer (signed or
+/// unsigned, 1 to 8 bytes) or float (4 or 8 bytes) array of shape (n, 2), each cell on the
+/// challenge's map of [`GRID_CELLS`] × [`GRID_CELLS`].
 pub fn parse_path(bytes: &[u8], file: &str) -> Result<Vec<(i64, i64)>, SourceError> {
     let err = |m: String| SourceError::new(file, 0, 0, m);
     let npy = npyz::NpyFile::new(bytes).map_err(|e| err(format!("not a NumPy array file: {e}")))?;
@@ -51,20 +52,51 @@ pub fn parse_path(bytes: &[u8], file: &str) -> Result<Vec<(i64, i64)>, SourceErr
     if npy.order() != npyz::Order::C {
         return Err(err("expected a C-ordered array (fortran_order False)".into()));
     }
-    let values: Vec<i64> = match npy.dtype() {
-        npyz::DType::Plain(t) if t.type_char() == npyz::TypeChar::Float => npy
-            .into_vec::<f64>()
-            .map_err(|e| err(format!("cannot read the cells: {e}")))?
-            .into_iter()
-            .map(|v| if v.is_finite() && v.fract() == 0.0 && v.abs() < 1e9 { Ok(v as i64) } else { Err(v) })
-            .collect::<Result<_, _>>()
-            .map_err(|v| err(format!("a cell index is not a whole number: {v}")))?,
-        _ => npy.into_vec::<i64>().map_err(|e| err(format!("cannot read the cells as integers: {e}")))?,
+    let dtype = npy.dtype();
+    let kind = match &dtype {
+        npyz::DType::Plain(t) => Some((t.type_char(), t.size_field())),
+        _ => None,
     };
-    if values.iter().any(|v| v.abs() > 1_000_000) {
-        return Err(err("a cell index is beyond a million".into()));
+    use npyz::TypeChar::{Float, Int, Uint};
+    match kind {
+        Some((Int, 1)) => cells_of(npy, file, |v: i8| v as f64),
+        Some((Int, 2)) => cells_of(npy, file, |v: i16| v as f64),
+        Some((Int, 4)) => cells_of(npy, file, |v: i32| v as f64),
+        Some((Int, 8)) => cells_of(npy, file, |v: i64| v as f64),
+        Some((Uint, 1)) => cells_of(npy, file, |v: u8| v as f64),
+        Some((Uint, 2)) => cells_of(npy, file, |v: u16| v as f64),
+        Some((Uint, 4)) => cells_of(npy, file, |v: u32| v as f64),
+        Some((Uint, 8)) => cells_of(npy, file, |v: u64| v as f64),
+        Some((Float, 4)) => cells_of(npy, file, |v: f32| v as f64),
+        Some((Float, 8)) => cells_of(npy, file, |v: f64| v),
+        _ => Err(err(format!("the cells must be integers or floats, not `{}`", dtype.descr()))),
     }
-    Ok(values.chunks_exact(2).map(|c| (c[0], c[1])).collect())
+}
+
+/// The cells of a path file whose numbers are `T`, each a whole number on the challenge's map
+/// (`value` gives a number's value; a whole number beyond 2^53 is still off the map).
+fn cells_of<T>(npy: npyz::NpyFile<&[u8]>, file: &str, value: impl Fn(T) -> f64) -> Result<Vec<(i64, i64)>, SourceError>
+where
+    T: npyz::Deserialize + Copy + std::fmt::Display,
+{
+    let err = |m: String| SourceError::new(file, 0, 0, m);
+    let numbers = npy.into_vec::<T>().map_err(|e| err(format!("cannot read the cells: {e}")))?;
+    let mut indices = Vec::with_capacity(numbers.len());
+    for (k, &n) in numbers.iter().enumerate() {
+        let (cell, axis) = (k / 2 + 1, if k % 2 == 0 { "row" } else { "column" });
+        let v = value(n);
+        if !(v.is_finite() && v.fract() == 0.0) {
+            return Err(err(format!("cell {cell}: its {axis} {n} is not a whole number")));
+        }
+        if !(0.0..GRID_CELLS as f64).contains(&v) {
+            return Err(err(format!(
+                "cell {cell}: its {axis} {n} is off the challenge's map of {GRID_CELLS} × {GRID_CELLS} cells (0 to {})",
+                GRID_CELLS - 1
+            )));
+        }
+        indices.push(v as i64);
+    }
+    Ok(indices.chunks_exact(2).map(|c| (c[0], c[1])).collect())
 }
 
 /// The length of the challenge's reference path through `cells`: from the start through each
@@ -83,9 +115,14 @@ pub fn reference_length(cells: &[(i64, i64)]) -> f64 {
 /// errors) with the challenge's task, and the reference path's cells when known.
 pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)]>) -> Result<Scenario, SourceError> {
     let doc = roxmltree::Document::parse(text).map_err(|e| {
-        let p = e.pos();
-        SourceError::new(file, p.row as usize, p.col as usize, format!("not an SDF world: {e}"))
+        // A document cut short is reported where it ends, not where roxmltree leaves it (1:1).
+        let (line, col) = match e {
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => end_of(text),
+            _ => (e.pos().row as usize, e.pos().col as usize),
+        };
+        SourceError::new(file, line, col, format!("not an SDF world: {e}"))
     })?;
+    // Positions are found only for an error: each costs a walk from the start of the text.
     let at = |n: roxmltree::Node| {
         let p = doc.text_pos_at(n.range().start);
         (p.row as usize, p.col as usize)
@@ -95,15 +132,24 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
         .children()
         .find(|n| n.has_tag_name("world"))
         .ok_or_else(|| SourceError::new(file, 1, 1, "no <world> element under <sdf>"))?;
-    let mut obstacles = Vec::new();
     // The world's own models (the <state> element repeats them with their current poses).
-    for model in world.children().filter(|n| n.has_tag_name("model")) {
+    let cylinders = || {
+        world
+            .children()
+            .filter(|n| n.has_tag_name("model") && n.attribute("name").unwrap_or("").starts_with("unit_cylinder"))
+    };
+    // Counted before any is built, so an oversized world is refused at once.
+    if let Some(extra) = cylinders().nth(MAX_OBSTACLES) {
+        let (line, col) = at(extra);
+        return Err(SourceError::new(file, line, col, format!("more than {MAX_OBSTACLES} cylinders")));
+    }
+    let mut obstacles = Vec::new();
+    for model in cylinders() {
         let model_name = model.attribute("name").unwrap_or("");
-        if !model_name.starts_with("unit_cylinder") {
-            continue;
-        }
-        let (line, col) = at(model);
-        let located = |m: String| SourceError::new(file, line, col, format!("model `{model_name}`: {m}"));
+        let located = |m: String| {
+            let (line, col) = at(model);
+            SourceError::new(file, line, col, format!("model `{model_name}`: {m}"))
+        };
         let pose = model
             .children()
             .find(|n| n.has_tag_name("pose"))
@@ -129,9 +175,6 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
         let o = Obstacle::build(shape, crate::world::obstacle::DEFAULT_Z.0, crate::world::obstacle::DEFAULT_Z.1)
             .map_err(|e| located(format!("invalid cylinder: {e}")))?;
         obstacles.push(o);
-        if obstacles.len() > MAX_CYLINDERS {
-            return Err(located(format!("more than {MAX_CYLINDERS} cylinders")));
-        }
     }
     if obstacles.is_empty() {
         return Err(SourceError::new(file, 0, 0, "no `unit_cylinder` models: not a BARN world"));
@@ -151,6 +194,12 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
     }
     scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
     Ok(scenario)
+}
+
+/// The line and column just past the end of `text` (columns count characters, as roxmltree's).
+fn end_of(text: &str) -> (usize, usize) {
+    let last = text.rfind('\n').map_or(text, |i| &text[i + 1..]);
+    (text.matches('\n').count() + 1, last.chars().count() + 1)
 }
 
 #[cfg(test)]

@@ -46,7 +46,7 @@ use super::{TaskEnd, first_blocked_task};
 use crate::diagnostic::SourceError;
 use crate::geom::GeomError;
 use crate::lex::{Tok, tokenize};
-use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario};
+use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario, WorldBudget};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, MAX_STAIR_TREADS, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain, World};
@@ -194,6 +194,7 @@ struct Parser<'f> {
     time_limit_line: Option<usize>,
     z: (f64, f64),
     features: Vec<TerrainFeature>,
+    budget: WorldBudget,
 }
 
 impl<'f> Parser<'f> {
@@ -211,6 +212,7 @@ impl<'f> Parser<'f> {
             time_limit_line: None,
             z: DEFAULT_Z,
             features: Vec::new(),
+            budget: WorldBudget::default(),
         }
     }
 
@@ -498,6 +500,7 @@ impl<'f> Parser<'f> {
     ) -> Result<(), SourceError> {
         let feature = TerrainFeature::new(shape, kind)
             .map_err(|e| self.err(line, kw.col, format!("invalid `{}`: {e}", kw.text)))?;
+        self.budget.feature(&feature).map_err(|m| self.err(line, kw.col, m))?;
         self.features.push(feature);
         Ok(())
     }
@@ -511,6 +514,7 @@ impl<'f> Parser<'f> {
     ) -> Result<(), SourceError> {
         match Obstacle::build(shape, self.z.0, self.z.1) {
             Ok(o) => {
+                self.budget.obstacle(&o).map_err(|m| self.err(line, kw.col, m))?;
                 self.scenario.obstacles.push(o);
                 self.obstacle_lines.push(line);
                 Ok(())
@@ -521,6 +525,7 @@ impl<'f> Parser<'f> {
                     GeomError::RepeatedPoint { second, .. } => Some(*second),
                     GeomError::NotConvex { index } => Some(*index),
                     GeomError::SelfIntersecting { second, .. } => Some(*second),
+                    GeomError::TooManyPoints { max, .. } => Some(*max),
                     _ => None,
                 };
                 let col = match (kw.text, point) {
