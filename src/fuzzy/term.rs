@@ -354,6 +354,11 @@ impl Term {
         {
             return Err(format!("width {w} must be positive"));
         }
+        if self.derived().iter().any(|d| !d.is_finite()) {
+            return Err("its parameters overflow its arithmetic (a span between them, its square or a width's \
+                        reciprocal is beyond the largest number), so it could only give NaN or infinity"
+                .into());
+        }
         match *self {
             Term::Arc { start, end, .. } | Term::SemiEllipse { start, end, .. } if start == end => {
                 Err(format!("start and end are both {start}; the term needs a width"))
@@ -362,6 +367,42 @@ impl Term {
                 Err(format!("direction {direction} equals the start; it must lie above or below it"))
             }
             _ => Ok(()),
+        }
+    }
+
+    /// What the membership function computes from its parameters alone before it reads `x`:
+    /// the spans it divides by or squares, the reciprocals of its widths and the ends it
+    /// compares `x` with (shoulders at ±∞ left out). [`Term::check`] refuses a term where one
+    /// is not finite.
+    fn derived(&self) -> Vec<f64> {
+        // A span between two parameters, 0 when one is an infinite shoulder.
+        let span = |p: f64, q: f64| if p.is_finite() && q.is_finite() { q - p } else { 0.0 };
+        match *self {
+            Term::Triangle { a, b, c, .. } => vec![span(a, b), span(b, c)],
+            Term::Trapezoid { a, b, c, d, .. } => vec![span(a, b), span(b, c), span(c, d)],
+            Term::Ramp { start, end, .. } | Term::SShape { start, end, .. } | Term::ZShape { start, end, .. } => {
+                vec![end - start, 0.5 * (start + end)]
+            }
+            Term::PiShape { bottom_left, top_left, top_right, bottom_right, .. } => vec![
+                top_left - bottom_left,
+                0.5 * (bottom_left + top_left),
+                bottom_right - top_right,
+                0.5 * (top_right + bottom_right),
+            ],
+            Term::Gaussian { sd, .. } => vec![2.0 * (sd * sd), 1.0 / (2.0 * (sd * sd))],
+            Term::GaussianProduct { sd_a, sd_b, .. } => {
+                vec![2.0 * (sd_a * sd_a), 1.0 / (2.0 * (sd_a * sd_a)), 2.0 * (sd_b * sd_b), 1.0 / (2.0 * (sd_b * sd_b))]
+            }
+            Term::Spike { width, .. } => vec![10.0 / width],
+            Term::Cosine { center, width, .. } => vec![2.0 / width * PI, center - 0.5 * width, center + 0.5 * width],
+            Term::Concave { inflection, end, .. } => vec![end - inflection, 2.0 * end - inflection],
+            Term::Discrete { ref points, .. } => points.windows(2).map(|w| w[1].0 - w[0].0).collect(),
+            Term::Arc { start, end, .. } => vec![(end - start) * (end - start)],
+            Term::SemiEllipse { start, end, .. } => {
+                let r = 0.5 * (end - start);
+                vec![r * r, start + r]
+            }
+            _ => Vec::new(),
         }
     }
 
