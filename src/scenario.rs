@@ -68,7 +68,9 @@ impl WorldBudget {
     fn outline(&mut self, shape: &ObstacleShape, parts: usize) -> Result<(), String> {
         self.parts += parts;
         if self.parts > MAX_PARTS {
-            return Err(format!("more than {MAX_PARTS} convex parts in all (a `poly` counts the pieces it splits into)"));
+            return Err(format!(
+                "more than {MAX_PARTS} convex parts in all (a `poly` counts the pieces it splits into)"
+            ));
         }
         self.points += match shape {
             ObstacleShape::Convex { points } => points.len(),

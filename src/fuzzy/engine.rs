@@ -359,7 +359,10 @@ fn check_range(what: &str, name: &str, min: f64, max: f64) -> Result<(), EngineE
 
 /// The index of the first of `names` that repeats one before it (or one of `taken`), found in
 /// `O(n log n)`.
-fn first_repeat<'a>(taken: impl IntoIterator<Item = &'a str>, names: impl IntoIterator<Item = &'a str>) -> Option<usize> {
+fn first_repeat<'a>(
+    taken: impl IntoIterator<Item = &'a str>,
+    names: impl IntoIterator<Item = &'a str>,
+) -> Option<usize> {
     let mut seen: std::collections::BTreeSet<&str> = taken.into_iter().collect();
     names.into_iter().position(|n| !seen.insert(n))
 }

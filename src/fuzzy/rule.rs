@@ -259,7 +259,11 @@ impl<'a> Parser<'a, '_, '_> {
     }
 
     /// Reads `hedge* term` (or `hedge* any` when `allow_any`). Term names win over hedge words.
-    fn hedged_term(&mut self, variable: VariableRef, allow_any: bool) -> Result<(Vec<Hedge>, Option<usize>), RuleError> {
+    fn hedged_term(
+        &mut self,
+        variable: VariableRef,
+        allow_any: bool,
+    ) -> Result<(Vec<Hedge>, Option<usize>), RuleError> {
         let (var_name, terms, index) = self.names.variable(variable);
         let mut hedges = Vec::new();
         loop {

@@ -30,3 +30,17 @@ pub fn stdout(o: &Output) -> String {
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
+
+/// As [`strider`], with the process's address space limited to `kib` KiB (`ulimit -v`), so a
+/// run that would fill memory fails there instead of taking the machine's.
+pub fn strider_in_address_space(args: &[&str], kib: u64) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_strider"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env_remove("STRIDER_UPDATE_GOLDEN")
+        .output()
+        .expect("run the strider binary")
+}
