@@ -218,3 +218,57 @@ impl Scenario {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::obstacle::{DEFAULT_Z, MAX_OUTLINE_POINTS};
+
+    fn build(shape: ObstacleShape) -> Obstacle {
+        Obstacle::build(shape, DEFAULT_Z.0, DEFAULT_Z.1).unwrap()
+    }
+
+    /// How many copies of `o` a world takes before its budget refuses one, and the message.
+    fn copies_taken(o: &Obstacle) -> (usize, String) {
+        let mut budget = WorldBudget::default();
+        let mut n = 0;
+        loop {
+            match budget.obstacle(o) {
+                Ok(()) => n += 1,
+                Err(m) => return (n, m),
+            }
+        }
+    }
+
+    #[test]
+    fn a_world_budget_counts_obstacles_parts_and_points() {
+        let cylinder = build(ObstacleShape::Cylinder { center: DVec2::ZERO, radius: 1.0 });
+        let (n, m) = copies_taken(&cylinder);
+        assert_eq!(n, MAX_OBSTACLES, "{m}");
+        assert!(m.contains("obstacles"), "{m}");
+        // A comb of 1,000 teeth splits into some 1,000 convex parts.
+        let mut outline = vec![DVec2::new(0.0, 0.0)];
+        for t in 0..1000 {
+            let x = 2.0 * t as f64;
+            outline.extend([
+                DVec2::new(x, 1.0),
+                DVec2::new(x, 3.0),
+                DVec2::new(x + 1.0, 3.0),
+                DVec2::new(x + 1.0, 1.0),
+            ]);
+        }
+        outline.extend([DVec2::new(2000.0, 1.0), DVec2::new(2000.0, 0.0)]);
+        let comb = build(ObstacleShape::Polygon { outline });
+        let (n, m) = copies_taken(&comb);
+        assert_eq!(n, MAX_PARTS / comb.parts.len(), "{m}");
+        assert!(m.contains("convex parts"), "{m}");
+        // A convex outline is one part but all its points.
+        let points: Vec<DVec2> = (0..MAX_OUTLINE_POINTS)
+            .map(|i| DVec2::from_angle(std::f64::consts::TAU * i as f64 / MAX_OUTLINE_POINTS as f64) * 100.0)
+            .collect();
+        let round = build(ObstacleShape::Convex { points });
+        let (n, m) = copies_taken(&round);
+        assert_eq!(n, MAX_POINTS / MAX_OUTLINE_POINTS, "{m}");
+        assert!(m.contains("outline points"), "{m}");
+    }
+}

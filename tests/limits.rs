@@ -83,6 +83,16 @@ fn a_text_world_past_the_obstacle_limit_is_refused_at_the_line_that_passes_it() 
 }
 
 #[test]
+fn a_map_script_past_the_obstacle_limit_is_stopped_at_the_call_that_passes_it() {
+    let dir = temp_dir("script_count");
+    let map = dir.join("many.rhai");
+    let script = "let m = world(\"many\");\nm.start(0.0, 0.0, 0.0);\nm.goal(5.0, 0.0, 0.5);\n\
+                  for i in 0..100001 {\n    m.cylinder(10.0 + (i % 2000) * 3.0, 10.0 + (i / 2000) * 3.0, 1.0);\n}\nm";
+    std::fs::write(&map, script).unwrap();
+    refused(&strider(&["run", s(&map), "--body", "disc"]), &["many.rhai:5:", "more than 100000 obstacles"]);
+}
+
+#[test]
 fn an_outline_past_the_point_limit_is_refused_at_the_point_that_passes_it() {
     let dir = temp_dir("outline");
     let n = 10_001;

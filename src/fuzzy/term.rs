@@ -889,6 +889,37 @@ mod tests {
     }
 
     #[test]
+    fn terms_whose_arithmetic_overflows_fail_the_check() {
+        let term = |class: &str, p: &[f64]| Term::from_parameters(class, p).unwrap();
+        // At a point where its shape is well above 0, each gives NaN or 0 (a span, square or
+        // reciprocal at infinity), and the check says so.
+        for (class, p, x) in [
+            ("Arc", &[-1e308, 1e308][..], 0.0),
+            ("SemiEllipse", &[-1e308, 1e308], 0.0),
+            ("Arc", &[0.0, 1e200], 1e199),
+            ("Triangle", &[-1e308, 1e308, 1e308], 0.0),
+            ("Ramp", &[-1e308, 1e308], 1.0),
+            ("SShape", &[-1e308, 1e308], -1e307),
+            ("Gaussian", &[0.0, 1e-200], 0.0),
+            ("Spike", &[0.0, 1e-320], 0.0),
+            ("Cosine", &[0.0, 1e-320], 0.0),
+            ("Discrete", &[-1e308, 0.0, 1e308, 1.0], 0.0),
+        ] {
+            let t = term(class, p);
+            let m = t.membership(x);
+            assert!(!(m.is_finite() && m > 0.0), "{class} {p:?} at {x}: {m}");
+            let e = t.check().unwrap_err();
+            assert!(e.contains("overflow its arithmetic"), "{class} {p:?}: {e}");
+        }
+        // Wide but computable.
+        for (class, p) in
+            [("Arc", &[-1e150, 1e150][..]), ("Triangle", &[-1e307, 0.0, 1e307]), ("Gaussian", &[0.0, 1e-100])]
+        {
+            assert_eq!(term(class, p).check(), Ok(()), "{class} {p:?}");
+        }
+    }
+
+    #[test]
     fn arcs_ellipses_and_binaries_by_hand() {
         let half = 3f64.sqrt() / 2.0;
         // An arc rising from 0 to 2 (centred on 2), and one falling from 2 to 0.

@@ -66,23 +66,23 @@ pub fn decompose(outline: &[DVec2]) -> Result<Vec<ConvexPolygon>, GeomError> {
 
     let inside = classify_faces(&cdt);
     let mut tri_of_face = vec![usize::MAX; cdt.num_all_faces()];
-    let mut pieces: Vec<Vec<usize>> = Vec::new();
+    let mut loops = Loops::default();
     for face in cdt.inner_faces() {
         let fi = face.fix().index();
         if !inside[fi] {
             continue;
         }
         let [a, b, c] = face.vertices().map(|v| v.data().idx);
-        let tri = if orientation(pts[a], pts[b], pts[c]) == Ordering::Less { vec![a, c, b] } else { vec![a, b, c] };
-        tri_of_face[fi] = pieces.len();
-        pieces.push(tri);
+        let tri = if orientation(pts[a], pts[b], pts[c]) == Ordering::Less { [a, c, b] } else { [a, b, c] };
+        tri_of_face[fi] = loops.first.len();
+        loops.push(tri);
     }
-    if pieces.is_empty() {
+    if loops.first.is_empty() {
         return Err(GeomError::Triangulation("no triangle inside the outline".into()));
     }
 
     // Hertel–Mehlhorn: drop diagonals whose removal keeps both endpoints convex.
-    let mut parent: Vec<usize> = (0..pieces.len()).collect();
+    let mut parent: Vec<usize> = (0..loops.first.len()).collect();
     for edge in cdt.undirected_edges() {
         if edge.is_constraint_edge() {
             continue;
@@ -101,20 +101,84 @@ pub fn decompose(outline: &[DVec2]) -> Result<Vec<ConvexPolygon>, GeomError> {
         }
         let u = directed.from().data().idx;
         let v = directed.to().data().idx;
-        if let Some(merged) = try_merge(&pts, &pieces[r0], &pieces[r1], u, v) {
+        if loops.merge(&pts, (t0, r0), t1, u, v) {
             parent[r1] = r0;
-            pieces[r0] = merged;
-            pieces[r1] = Vec::new();
         }
     }
 
     let mut out = Vec::new();
-    for (i, piece) in pieces.iter().enumerate() {
-        if parent[i] == i && !piece.is_empty() {
-            out.push(ConvexPolygon::from_loop(piece.iter().map(|&k| pts[k]).collect())?);
+    for (i, &first) in loops.first.iter().enumerate() {
+        if parent[i] == i {
+            out.push(ConvexPolygon::from_loop(loops.walk(first).map(|k| pts[k]).collect())?);
         }
     }
     Ok(out)
+}
+
+/// The pieces of a triangulated outline as loops of half-edges: each triangle's three edges
+/// linked in order, so joining two pieces across a diagonal relinks four half-edges, whatever
+/// the pieces' sizes, and the whole Hertel–Mehlhorn pass is linear.
+#[derive(Debug, Default)]
+struct Loops {
+    /// The outline point each half-edge starts at.
+    origin: Vec<usize>,
+    /// The half-edge after each one along its piece, and the one before.
+    next: Vec<usize>,
+    prev: Vec<usize>,
+    /// For each triangle, the half-edge its piece's loop is read from while it is a root.
+    first: Vec<usize>,
+}
+
+impl Loops {
+    /// Adds the triangle `tri` (counter-clockwise): half-edges `3k`, `3k + 1`, `3k + 2`.
+    fn push(&mut self, tri: [usize; 3]) {
+        let k = self.origin.len();
+        self.origin.extend(tri);
+        self.next.extend([k + 1, k + 2, k]);
+        self.prev.extend([k + 2, k, k + 1]);
+        self.first.push(k);
+    }
+
+    /// The half-edge of triangle `t` from outline point `from` to `to`.
+    fn half_edge(&self, t: usize, from: usize, to: usize) -> Option<usize> {
+        (3 * t..3 * t + 3).find(|&h| self.origin[h] == from && self.origin[self.next[h]] == to)
+    }
+
+    /// Joins the piece rooted at `r0` (holding triangle `t0`) and the piece holding `t1`
+    /// across their diagonal `u`–`v` when the union is convex at both ends; the joined loop
+    /// is read from `v`, the end the diagonal points at along `r0`'s loop.
+    fn merge(&mut self, pts: &[DVec2], (t0, r0): (usize, usize), t1: usize, u: usize, v: usize) -> bool {
+        let pair = |a, b| Some((self.half_edge(t0, a, b)?, self.half_edge(t1, b, a)?));
+        let Some((h, t)) = pair(u, v).or_else(|| pair(v, u)) else {
+            return false;
+        };
+        let (ph, nh, pt, nt) = (self.prev[h], self.next[h], self.prev[t], self.next[t]);
+        // Around `v`: from the point before it on the second loop to the point after it on
+        // the first; around `u`: from the point before it on the first to the one after it on
+        // the second.
+        let at = |a: usize, b: usize, c: usize| orientation(pts[a], pts[b], pts[c]) != Ordering::Less;
+        let o = &self.origin;
+        if !(at(o[pt], o[nh], o[self.next[nh]]) && at(o[ph], o[h], o[self.next[nt]])) {
+            return false;
+        }
+        self.next[ph] = nt;
+        self.prev[nt] = ph;
+        self.next[pt] = nh;
+        self.prev[nh] = pt;
+        self.first[r0] = nh;
+        true
+    }
+
+    /// The outline points of the loop through half-edge `first`, from its start.
+    fn walk(&self, first: usize) -> impl Iterator<Item = usize> + '_ {
+        let mut h = Some(first);
+        std::iter::from_fn(move || {
+            let at = h?;
+            let n = self.next[at];
+            h = (n != first).then_some(n);
+            Some(self.origin[at])
+        })
+    }
 }
 
 /// Union-find root with path halving.
@@ -124,30 +188,6 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
         i = parent[i];
     }
     i
-}
-
-/// Merges two counter-clockwise pieces sharing the diagonal `u`–`v` if the union is convex.
-fn try_merge(pts: &[DVec2], a: &[usize], b: &[usize], u: usize, v: usize) -> Option<Vec<usize>> {
-    // Orient the diagonal so that `a` runs u → v and `b` runs v → u.
-    let has_edge = |poly: &[usize], from: usize, to: usize| {
-        let n = poly.len();
-        (0..n).find(|&i| poly[i] == from && poly[(i + 1) % n] == to)
-    };
-    let (u, v, ia, ib) = match (has_edge(a, u, v), has_edge(b, v, u)) {
-        (Some(ia), Some(ib)) => (u, v, ia, ib),
-        _ => (v, u, has_edge(a, v, u)?, has_edge(b, u, v)?),
-    };
-    let (na, nb) = (a.len(), b.len());
-    // a from v around to u, then b strictly between u and v.
-    let mut merged: Vec<usize> = (0..na).map(|k| a[(ia + 1 + k) % na]).collect();
-    merged.extend((1..nb - 1).map(|k| b[(ib + 1 + k) % nb]));
-    let m = merged.len();
-    let convex_at = |pos: usize| {
-        orientation(pts[merged[(pos + m - 1) % m]], pts[merged[pos]], pts[merged[(pos + 1) % m]]) != Ordering::Less
-    };
-    // merged[0] is v and merged[na - 1] is u.
-    debug_assert!(merged[0] == v && merged[na - 1] == u);
-    (convex_at(0) && convex_at(na - 1)).then_some(merged)
 }
 
 /// Whether the constraint edges of `cdt` are exactly the `n` outline edges `i`–`i + 1`.

@@ -225,7 +225,13 @@ mod tests {
 
     /// The bytes of a NumPy file of int64 cells.
     pub(crate) fn npy(cells: &[(i64, i64)]) -> Vec<u8> {
-        let header = format!("{{'descr': '<i8', 'fortran_order': False, 'shape': ({}, 2), }}", cells.len());
+        let numbers: Vec<Vec<u8>> = cells.iter().flat_map(|&(r, c)| [r, c]).map(|v| v.to_le_bytes().to_vec()).collect();
+        npy_of("<i8", cells.len(), &numbers)
+    }
+
+    /// The bytes of a NumPy file of `rows` cells of type `descr`, each number's bytes given.
+    fn npy_of(descr: &str, rows: usize, numbers: &[Vec<u8>]) -> Vec<u8> {
+        let header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, 2), }}");
         let pad = 64 - (10 + header.len() + 1) % 64;
         let mut out = b"\x93NUMPY\x01\x00".to_vec();
         let len = (header.len() + pad + 1) as u16;
@@ -233,9 +239,8 @@ mod tests {
         out.extend(header.bytes());
         out.extend(std::iter::repeat_n(b' ', pad));
         out.push(b'\n');
-        for &(r, c) in cells {
-            out.extend(r.to_le_bytes());
-            out.extend(c.to_le_bytes());
+        for n in numbers {
+            out.extend(n);
         }
         out
     }
@@ -259,9 +264,58 @@ mod tests {
     }
 
     #[test]
+    fn paths_of_every_integer_and_float_type_read_alike() {
+        let cells = [(15u8, 0u8), (15, 1), (29, 29)];
+        let numbers =
+            |f: &dyn Fn(u8) -> Vec<u8>| -> Vec<Vec<u8>> { cells.iter().flat_map(|&(r, c)| [f(r), f(c)]).collect() };
+        let want: Vec<(i64, i64)> = cells.iter().map(|&(r, c)| (r.into(), c.into())).collect();
+        let kinds: [(&str, &dyn Fn(u8) -> Vec<u8>); 8] = [
+            ("<i1", &|v| vec![v]),
+            ("<u1", &|v| vec![v]),
+            ("<i2", &|v| i16::from(v).to_le_bytes().to_vec()),
+            ("<i4", &|v| i32::from(v).to_le_bytes().to_vec()),
+            (">i4", &|v| i32::from(v).to_be_bytes().to_vec()),
+            ("<u8", &|v| u64::from(v).to_le_bytes().to_vec()),
+            ("<f4", &|v| f32::from(v).to_le_bytes().to_vec()),
+            ("<f8", &|v| f64::from(v).to_le_bytes().to_vec()),
+        ];
+        for (descr, f) in kinds {
+            let got = parse_path(&npy_of(descr, cells.len(), &numbers(f)), "p.npy");
+            assert_eq!(got.as_deref(), Ok(&want[..]), "{descr}");
+        }
+        let halves = numbers(&|v| (f32::from(v) + 0.5).to_le_bytes().to_vec());
+        let e = parse_path(&npy_of("<f4", cells.len(), &halves), "p.npy").unwrap_err();
+        assert!(e.message.contains("cell 1: its row 15.5 is not a whole number"), "{e}");
+        let e = parse_path(&npy_of("|b1", 1, &[vec![1], vec![0]]), "p.npy").unwrap_err();
+        assert!(e.message.contains("integers or floats"), "{e}");
+    }
+
+    #[test]
+    fn cells_off_the_challenge_map_are_refused() {
+        for (cell, what) in [
+            ((30, 0), "cell 2: its row 30 is off"),
+            ((0, -1), "cell 2: its column -1 is off"),
+            ((i64::MIN, 0), "cell 2: its row -9223372036854775808 is off"),
+            ((0, i64::MAX), "cell 2: its column 9223372036854775807 is off"),
+        ] {
+            let e = parse_path(&npy(&[(15, 0), cell]), "p.npy").unwrap_err();
+            assert!(e.message.contains(what), "{e}");
+        }
+        let far = u64::MAX.to_le_bytes().to_vec();
+        let e = parse_path(&npy_of("<u8", 1, &[far, 0u64.to_le_bytes().to_vec()]), "p.npy").unwrap_err();
+        assert!(e.message.contains("its row 18446744073709551615 is off"), "{e}");
+    }
+
+    #[test]
     fn bad_worlds_and_paths_are_located_errors() {
+        // Cut short: located where the text ends, not at its start.
         let e = parse_world("<sdf><world>", "w.world", "w", None).unwrap_err();
-        assert!(e.line >= 1 && e.message.contains("not an SDF world"), "{e}");
+        assert_eq!((e.line, e.col), (1, 13), "{e}");
+        assert!(e.message.contains("not an SDF world"), "{e}");
+        let whole = world(&[(0.0, 0.0, 0.075), (1.0, 1.0, 0.075)]);
+        let cut = &whole[..whole.find("unit_cylinder_1").unwrap()];
+        let e = parse_world(cut, "w.world", "w", None).unwrap_err();
+        assert_eq!((e.line, e.col), (5, cut.lines().last().unwrap().chars().count() + 1), "{e}");
         let text = world(&[(0.0, 0.0, 0.075)]).replace("<radius>0.075</radius>", "<radius>wide</radius>");
         let e = parse_world(&text, "w.world", "w", None).unwrap_err();
         assert_eq!(e.line, 4, "{e}");
