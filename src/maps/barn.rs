@@ -1,7 +1,8 @@
 //! The BARN challenge's own files (the Benchmark Autonomous Robot Navigation challenge, MIT
 //! licence): a Gazebo world `world_N.world` (SDF) whose `unit_cylinder_*` models are the
-//! obstacles, and its reference path `path_N.npy`, a NumPy array of grid cells (row, column) of
-//! 0.15 m. The challenge's task is fixed: start at (−2.25, 3) facing +y, goal 10 m ahead
+//! obstacles (at most [`MAX_OBSTACLES`], counted before any is built), and its reference path
+//! `path_N.npy`, a NumPy array of grid cells (row, column) of 0.15 m on the challenge's map of
+//! [`GRID_CELLS`] × [`GRID_CELLS`] (a cell off it would stretch the reference to nonsense). The challenge's task is fixed: start at (−2.25, 3) facing +y, goal 10 m ahead
 //! within 1 m, 100 s; its reference length runs from the start through the path's cells (each
 //! at `(0.15·row − 4.575, 0.15·column + 5.075)`) to the goal, as the challenge measures it.
 //!

@@ -32,7 +32,8 @@
 //! before it, or a `start` never followed by a `goal`, is an error. The BARN challenge worlds and
 //! the Menge U-trap scenario are files of this format.
 //!
-//! Errors name the file, the line and the column of the offending token. After reading, the
+//! Errors name the file, the line and the column of the offending token; a line that takes the
+//! world past its bounds ([`WorldBudget`]) is refused as it is read. After reading, the
 //! parser checks that no start or goal lies within the agent radius of an obstacle and then runs
 //! [`Scenario::validate`]. [`write`] prints a scenario in this format with shortest
 //! round-tripping numbers, so [`parse`] gives back the same obstacles and tasks.
