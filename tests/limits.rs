@@ -5,32 +5,13 @@
 
 mod common;
 
-use common::{stderr, strider, strider_in_address_space};
+use common::{refused, strider, strider_in_address_space, temp_dir};
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use std::process::Output;
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("limits").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// Exit code 2 and a message on stderr containing every one of `needles`.
-#[track_caller]
-fn refused(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    for n in needles {
-        assert!(e.contains(n), "'{n}' not in: {e}");
-    }
-    assert!(!e.contains("panicked"), "{e}");
 }
 
 /// A BARN world of `n` cylinders 3 m apart, far from the challenge's start and goal.
@@ -150,17 +131,12 @@ fn engines_that_could_only_give_nan_are_refused_where_they_are_written() {
              rule: if x is a then y is one\n"
         )
     };
-    let cases = [
+    let fll_cases = [
         (fll("Arc -1e308 1e308", "0 1"), "e.fll:5:9:", "overflow its arithmetic"),
         (fll("SemiEllipse -1e308 1e308", "0 1"), "e.fll:5:9:", "overflow its arithmetic"),
         (fll("Triangle 0 5 10", "-1e308 1e308"), "e.fll:6:1:", "wider than the largest number"),
         (fll("Triangle 0 5 10", "0 1e307"), "e.fll:6:1:", "Centroid sums 100 samples"),
     ];
-    let file = dir.join("e.fll");
-    for (text, at, what) in cases {
-        std::fs::write(&file, &text).unwrap();
-        refused(&strider(&["fuzzy", "eval", s(&file)]), &[at, what]);
-    }
     let rhai = |term: &str, range: &str| {
         format!(
             "let e = fuzzy_engine(\"nan\");\nlet x = e.input(\"x\", 0, 10);\nx.term(\"a\", {term});\n\
@@ -168,16 +144,18 @@ fn engines_that_could_only_give_nan_are_refused_where_they_are_written() {
              let b = e.rule_block(\"r\");\nb.rule(\"if x is a then y is one\");\ne"
         )
     };
-    let cases = [
+    let rhai_cases = [
         (rhai("\"arc\", [-1e308, 1e308]", "0, 1"), "e.rhai:3:", "overflow its arithmetic"),
         (rhai("\"semiellipse\", [-1e308, 1e308]", "0, 1"), "e.rhai:3:", "overflow its arithmetic"),
         (rhai("\"triangle\", [0, 5, 10]", "-1e308, 1e308"), "e.rhai:4:", "wider than the largest number"),
         (rhai("\"triangle\", [0, 5, 10]", "0, 1e306"), "e.rhai:4:", "Centroid sums 1000 samples"),
     ];
-    let file = dir.join("e.rhai");
-    for (text, at, what) in cases {
-        std::fs::write(&file, &text).unwrap();
-        refused(&strider(&["fuzzy", "eval", s(&file)]), &[at, what]);
+    let files = [dir.join("e.fll"), dir.join("e.rhai")];
+    for (file, cases) in files.iter().zip([fll_cases, rhai_cases]) {
+        for (text, at, what) in cases {
+            std::fs::write(file, &text).unwrap();
+            refused(&strider(&["fuzzy", "eval", s(file)]), &[at, what]);
+        }
     }
 }
 
