@@ -267,24 +267,25 @@ mod tests {
     #[test]
     fn paths_of_every_integer_and_float_type_read_alike() {
         let cells = [(15u8, 0u8), (15, 1), (29, 29)];
-        let numbers =
-            |f: &dyn Fn(u8) -> Vec<u8>| -> Vec<Vec<u8>> { cells.iter().flat_map(|&(r, c)| [f(r), f(c)]).collect() };
+        // The bytes of one number of a type.
+        type Bytes = fn(u8) -> Vec<u8>;
+        let numbers = |f: Bytes| -> Vec<Vec<u8>> { cells.iter().flat_map(|&(r, c)| [f(r), f(c)]).collect() };
         let want: Vec<(i64, i64)> = cells.iter().map(|&(r, c)| (r.into(), c.into())).collect();
-        let kinds: [(&str, &dyn Fn(u8) -> Vec<u8>); 8] = [
-            ("<i1", &|v| vec![v]),
-            ("<u1", &|v| vec![v]),
-            ("<i2", &|v| i16::from(v).to_le_bytes().to_vec()),
-            ("<i4", &|v| i32::from(v).to_le_bytes().to_vec()),
-            (">i4", &|v| i32::from(v).to_be_bytes().to_vec()),
-            ("<u8", &|v| u64::from(v).to_le_bytes().to_vec()),
-            ("<f4", &|v| f32::from(v).to_le_bytes().to_vec()),
-            ("<f8", &|v| f64::from(v).to_le_bytes().to_vec()),
+        let kinds: [(&str, Bytes); 8] = [
+            ("<i1", |v| vec![v]),
+            ("<u1", |v| vec![v]),
+            ("<i2", |v| i16::from(v).to_le_bytes().to_vec()),
+            ("<i4", |v| i32::from(v).to_le_bytes().to_vec()),
+            (">i4", |v| i32::from(v).to_be_bytes().to_vec()),
+            ("<u8", |v| u64::from(v).to_le_bytes().to_vec()),
+            ("<f4", |v| f32::from(v).to_le_bytes().to_vec()),
+            ("<f8", |v| f64::from(v).to_le_bytes().to_vec()),
         ];
         for (descr, f) in kinds {
             let got = parse_path(&npy_of(descr, cells.len(), &numbers(f)), "p.npy");
             assert_eq!(got.as_deref(), Ok(&want[..]), "{descr}");
         }
-        let halves = numbers(&|v| (f32::from(v) + 0.5).to_le_bytes().to_vec());
+        let halves = numbers(|v| (f32::from(v) + 0.5).to_le_bytes().to_vec());
         let e = parse_path(&npy_of("<f4", cells.len(), &halves), "p.npy").unwrap_err();
         assert!(e.message.contains("cell 1: its row 15.5 is not a whole number"), "{e}");
         let e = parse_path(&npy_of("|b1", 1, &[vec![1], vec![0]]), "p.npy").unwrap_err();
