@@ -131,6 +131,14 @@ pub enum GeomError {
         /// Supplied value.
         value: f64,
     },
+    /// More points than a caller's bound allows.
+    #[error("{found} points: at most {max}")]
+    TooManyPoints {
+        /// Number of points supplied.
+        found: usize,
+        /// The bound.
+        max: usize,
+    },
     /// The triangulation library rejected the input.
     #[error("triangulation failed: {0}")]
     Triangulation(String),

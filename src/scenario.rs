@@ -10,13 +10,79 @@ use glam::DVec2;
 
 use crate::geom::Shape;
 use crate::world::obstacle::Band;
-use crate::world::{Obstacle, Task, Terrain, World};
+use crate::world::terrain::TerrainFeature;
+use crate::world::{Obstacle, ObstacleShape, Task, Terrain, World};
 
 /// Default agent radius, metres.
 pub const DEFAULT_AGENT_RADIUS: f64 = 0.3;
 
 /// Largest start or goal coordinate, metres: worlds are at most 200 km across.
 pub const MAX_COORDINATE_M: f64 = 100_000.0;
+
+/// Most obstacles a world may hold, and most terrain features: far beyond any map (a BARN
+/// world has a few hundred cylinders), and few enough that what a world costs to build, index
+/// and plan over stays bounded. Text worlds, BARN worlds and map scripts count what they read
+/// with a [`WorldBudget`]; a MovingAI map is bounded by its cells.
+pub const MAX_OBSTACLES: usize = 100_000;
+
+/// Most convex parts the obstacles and terrain features of a world may have together (a
+/// `poly` outline has as many as it splits into): the reference planner keeps some 70 corners
+/// for each, so this keeps its graph within a gigabyte or two.
+pub const MAX_PARTS: usize = 200_000;
+
+/// Most outline points (`convex` and `poly`) the obstacles and terrain features of a world
+/// may have together; one outline has at most
+/// [`MAX_OUTLINE_POINTS`](crate::world::obstacle::MAX_OUTLINE_POINTS).
+pub const MAX_POINTS: usize = 1_000_000;
+
+/// What a world read so far holds, counted against [`MAX_OBSTACLES`], [`MAX_PARTS`] and
+/// [`MAX_POINTS`] as each obstacle or terrain feature is built (the cost of building one is
+/// bounded by its outline), so an oversized world is refused at the item that overflows it.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WorldBudget {
+    obstacles: usize,
+    features: usize,
+    parts: usize,
+    points: usize,
+}
+
+impl WorldBudget {
+    /// Counts an obstacle; the error says which bound it passes.
+    pub fn obstacle(&mut self, o: &Obstacle) -> Result<(), String> {
+        self.obstacles += 1;
+        if self.obstacles > MAX_OBSTACLES {
+            return Err(format!("more than {MAX_OBSTACLES} obstacles"));
+        }
+        self.outline(&o.shape, o.parts.len())
+    }
+
+    /// Counts a terrain feature; the error says which bound it passes.
+    pub fn feature(&mut self, f: &TerrainFeature) -> Result<(), String> {
+        self.features += 1;
+        if self.features > MAX_OBSTACLES {
+            return Err(format!("more than {MAX_OBSTACLES} terrain features"));
+        }
+        self.outline(&f.shape, f.parts().len())
+    }
+
+    fn outline(&mut self, shape: &ObstacleShape, parts: usize) -> Result<(), String> {
+        self.parts += parts;
+        if self.parts > MAX_PARTS {
+            return Err(format!(
+                "more than {MAX_PARTS} convex parts in all (a `poly` counts the pieces it splits into)"
+            ));
+        }
+        self.points += match shape {
+            ObstacleShape::Convex { points } => points.len(),
+            ObstacleShape::Polygon { outline } => outline.len(),
+            ObstacleShape::Box { .. } | ObstacleShape::Cylinder { .. } => 0,
+        };
+        if self.points > MAX_POINTS {
+            return Err(format!("more than {MAX_POINTS} outline points in all"));
+        }
+        Ok(())
+    }
+}
 
 /// A world description with its tasks.
 #[derive(Debug, Clone)]
@@ -150,5 +216,59 @@ impl Scenario {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::obstacle::{DEFAULT_Z, MAX_OUTLINE_POINTS};
+
+    fn build(shape: ObstacleShape) -> Obstacle {
+        Obstacle::build(shape, DEFAULT_Z.0, DEFAULT_Z.1).unwrap()
+    }
+
+    /// How many copies of `o` a world takes before its budget refuses one, and the message.
+    fn copies_taken(o: &Obstacle) -> (usize, String) {
+        let mut budget = WorldBudget::default();
+        let mut n = 0;
+        loop {
+            match budget.obstacle(o) {
+                Ok(()) => n += 1,
+                Err(m) => return (n, m),
+            }
+        }
+    }
+
+    #[test]
+    fn a_world_budget_counts_obstacles_parts_and_points() {
+        let cylinder = build(ObstacleShape::Cylinder { center: DVec2::ZERO, radius: 1.0 });
+        let (n, m) = copies_taken(&cylinder);
+        assert_eq!(n, MAX_OBSTACLES, "{m}");
+        assert!(m.contains("obstacles"), "{m}");
+        // A comb of 1,000 teeth splits into some 1,000 convex parts.
+        let mut outline = vec![DVec2::new(0.0, 0.0)];
+        for t in 0..1000 {
+            let x = 2.0 * t as f64;
+            outline.extend([
+                DVec2::new(x, 1.0),
+                DVec2::new(x, 3.0),
+                DVec2::new(x + 1.0, 3.0),
+                DVec2::new(x + 1.0, 1.0),
+            ]);
+        }
+        outline.extend([DVec2::new(2000.0, 1.0), DVec2::new(2000.0, 0.0)]);
+        let comb = build(ObstacleShape::Polygon { outline });
+        let (n, m) = copies_taken(&comb);
+        assert_eq!(n, MAX_PARTS / comb.parts.len(), "{m}");
+        assert!(m.contains("convex parts"), "{m}");
+        // A convex outline is one part but all its points.
+        let points: Vec<DVec2> = (0..MAX_OUTLINE_POINTS)
+            .map(|i| DVec2::from_angle(std::f64::consts::TAU * i as f64 / MAX_OUTLINE_POINTS as f64) * 100.0)
+            .collect();
+        let round = build(ObstacleShape::Convex { points });
+        let (n, m) = copies_taken(&round);
+        assert_eq!(n, MAX_POINTS / MAX_OUTLINE_POINTS, "{m}");
+        assert!(m.contains("outline points"), "{m}");
     }
 }

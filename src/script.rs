@@ -8,14 +8,22 @@
 //! validates; nothing on a hot path ever calls back into a script.
 //!
 //! Invariant: every script runs under [`Limits`] (operations, call depth, expression depth,
-//! string/array/map sizes), without `eval`, without module import, without a clock, and its
-//! `print`/`debug` output goes to a [`ScriptLog`], never to stdout.
+//! string/array/map sizes, and the memory it holds when a [`MemoryProbe`] is set), without
+//! `eval`, without module import, without a clock, and its `print`/`debug` output goes to a
+//! [`ScriptLog`], never to stdout.
+//!
+//! Rhai's sizes bound each value, not how many a script keeps (in variables, or captured by
+//! closures), so a script could fill memory with values each within them. The host bounds the
+//! sum: the `strider` binary installs an allocator that counts the bytes each thread holds and
+//! hands the library a probe of it ([`set_memory_probe`]); before each operation the engine
+//! reads it and stops a script holding more than [`Limits::max_memory_bytes`] since it started.
 
 pub mod fuzzy_api;
 pub mod map_api;
 
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::sync::OnceLock;
 
 use crate::diagnostic::SourceError;
 use crate::fuzzy::Engine;
@@ -36,6 +44,22 @@ pub struct Limits {
     pub max_array_size: usize,
     /// Maximum object map size; default 10,000.
     pub max_map_size: usize,
+    /// Most bytes a script may hold on the heap beyond what its thread held when it started,
+    /// checked before each operation when a [`MemoryProbe`] is set; default 1 GiB.
+    pub max_memory_bytes: u64,
+}
+
+/// The bytes the calling thread holds on the heap (allocated less freed), as an allocator
+/// installed by the program counts them.
+pub type MemoryProbe = fn() -> i64;
+
+/// The probe every script engine reads, set once by the program that counts allocations.
+static MEMORY_PROBE: OnceLock<MemoryProbe> = OnceLock::new();
+
+/// Sets the probe that bounds what scripts hold ([`Limits::max_memory_bytes`]); the `strider`
+/// binary sets it at start from its counting allocator. False when one was already set.
+pub fn set_memory_probe(probe: MemoryProbe) -> bool {
+    MEMORY_PROBE.set(probe).is_ok()
 }
 
 impl Default for Limits {
@@ -47,6 +71,7 @@ impl Default for Limits {
             max_string_size: 1 << 20,
             max_array_size: 100_000,
             max_map_size: 10_000,
+            max_memory_bytes: 1 << 30,
         }
     }
 }
@@ -87,6 +112,14 @@ pub fn hardened_engine(limits: Limits, log: &ScriptLog) -> rhai::Engine {
         .set_max_functions(1_000)
         .set_strict_variables(true)
         .disable_symbol("eval");
+    if let Some(&probe) = MEMORY_PROBE.get() {
+        let (start, max) = (probe(), i64::try_from(limits.max_memory_bytes).unwrap_or(i64::MAX));
+        engine.on_progress(move |_| {
+            (probe().saturating_sub(start) > max).then(|| {
+                format!("script holds more than {} MiB, its memory limit", limits.max_memory_bytes >> 20).into()
+            })
+        });
+    }
     let print_log = log.clone();
     engine.on_print(move |s| print_log.push(s.to_string()));
     let debug_log = log.clone();
@@ -138,6 +171,8 @@ pub fn script_error(file: &str, err: &rhai::EvalAltResult) -> SourceError {
         rhai::EvalAltResult::ErrorTooManyOperations(_) => {
             "script exceeded its operation limit (an endless loop?)".to_string()
         }
+        // Stopped by the host (its memory limit): the reason is the token.
+        rhai::EvalAltResult::ErrorTerminated(reason, _) => reason.to_string(),
         other => {
             // Rhai appends the position to its messages; the position is reported separately.
             let text = other.to_string();

@@ -4,32 +4,14 @@
 
 mod common;
 
-use common::{stderr, stdout, strider};
+use common::{refused, stderr, stdout, strider, temp_dir};
 
 use std::io::Read;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("harden").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
+use std::process::{Command, Stdio};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// Exit code 2 and a message on stderr containing every one of `needles`.
-#[track_caller]
-fn refused(o: &Output, needles: &[&str]) {
-    let e = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{e}");
-    for n in needles {
-        assert!(e.contains(n), "'{n}' not in: {e}");
-    }
-    assert!(!e.contains("panicked"), "{e}");
 }
 
 const NESTING: usize = 10_000;

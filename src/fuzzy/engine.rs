@@ -351,14 +351,28 @@ fn check_range(what: &str, name: &str, min: f64, max: f64) -> Result<(), EngineE
     if min > max {
         return err(format!("{what} '{name}' has an inverted range [{min}, {max}]"));
     }
+    if let Some(m) = super::variable::range_overflow(min, max) {
+        return err(format!("{what} '{name}': {m}"));
+    }
     Ok(())
 }
 
+/// The index of the first of `names` that repeats one before it (or one of `taken`), found in
+/// `O(n log n)`.
+fn first_repeat<'a>(
+    taken: impl IntoIterator<Item = &'a str>,
+    names: impl IntoIterator<Item = &'a str>,
+) -> Option<usize> {
+    let mut seen: std::collections::BTreeSet<&str> = taken.into_iter().collect();
+    names.into_iter().position(|n| !seen.insert(n))
+}
+
 fn check_terms(what: &str, name: &str, terms: &[NamedTerm], output: bool, variable: usize) -> Result<(), EngineError> {
+    let repeat = first_repeat([], terms.iter().map(|t| t.name.as_str()));
     for (i, t) in terms.iter().enumerate() {
         let item = Item::Term { output, variable, term: i };
         check_name("term", &t.name).map_err(|e| e.at(item))?;
-        if terms[..i].iter().any(|o| o.name == t.name) {
+        if repeat == Some(i) {
             return err(format!("{what} '{name}' has two terms named '{}'", t.name)).map_err(|e| e.at(item));
         }
         if let Err(m) = t.term.check() {
@@ -398,11 +412,14 @@ impl Engine {
     }
 
     fn validate_variables(&self) -> Result<(), EngineError> {
+        let inputs = || self.inputs.iter().map(|v| v.name.as_str());
+        let repeat = first_repeat([], inputs());
         for (i, v) in self.inputs.iter().enumerate() {
-            self.validate_input(i, v).map_err(|e| e.at(Item::Input(i)))?;
+            self.validate_input(i, v, repeat == Some(i)).map_err(|e| e.at(Item::Input(i)))?;
         }
+        let repeat = first_repeat(inputs(), self.outputs.iter().map(|v| v.name.as_str()));
         for (i, v) in self.outputs.iter().enumerate() {
-            self.validate_output(i, v).map_err(|e| e.at(Item::Output(i)))?;
+            self.validate_output(i, v, repeat == Some(i)).map_err(|e| e.at(Item::Output(i)))?;
         }
         let inputs = self.inputs.iter().map(|v| &v.terms);
         let outputs = self.outputs.iter().map(|v| &v.terms);
@@ -487,18 +504,20 @@ impl Engine {
         })
     }
 
-    fn validate_input(&self, i: usize, v: &InputVariable) -> Result<(), EngineError> {
+    /// Checks input `v`; `repeated` when an input before it has its name.
+    fn validate_input(&self, i: usize, v: &InputVariable, repeated: bool) -> Result<(), EngineError> {
         check_name("input variable", &v.name)?;
-        if self.inputs[..i].iter().any(|o| o.name == v.name) {
+        if repeated {
             return err(format!("two input variables are named '{}'", v.name));
         }
         check_range("input variable", &v.name, v.minimum, v.maximum)?;
         check_terms("input variable", &v.name, &v.terms, false, i)
     }
 
-    fn validate_output(&self, i: usize, v: &OutputVariable) -> Result<(), EngineError> {
+    /// Checks output `v`; `repeated` when an input or an output before it has its name.
+    fn validate_output(&self, i: usize, v: &OutputVariable, repeated: bool) -> Result<(), EngineError> {
         check_name("output variable", &v.name)?;
-        if self.outputs[..i].iter().any(|o| o.name == v.name) || self.inputs.iter().any(|o| o.name == v.name) {
+        if repeated {
             return err(format!("two variables are named '{}'", v.name));
         }
         check_range("output variable", &v.name, v.minimum, v.maximum)?;
@@ -514,6 +533,9 @@ impl Engine {
                 v.minimum,
                 v.maximum
             ));
+        }
+        if let Some(m) = v.sum_overflow() {
+            return err(format!("output variable '{}': {m}", v.name));
         }
         for (ti, t) in v.terms.iter().enumerate() {
             let weighted = match v.defuzzifier {
@@ -555,8 +577,11 @@ impl Engine {
     }
 
     fn validate_blocks(&self) -> Result<(), EngineError> {
+        // Unnamed blocks never repeat one another.
+        let mut seen = std::collections::BTreeSet::new();
+        let repeat = self.rule_blocks.iter().position(|b| !b.name.is_empty() && !seen.insert(b.name.as_str()));
         for (bi, block) in self.rule_blocks.iter().enumerate() {
-            if self.rule_blocks[..bi].iter().any(|b| b.name == block.name && !b.name.is_empty()) {
+            if repeat == Some(bi) {
                 return err(format!("two rule blocks are named '{}'", block.name)).map_err(|e| e.at(Item::Block(bi)));
             }
             for (ri, rule) in block.rules.iter().enumerate() {

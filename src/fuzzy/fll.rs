@@ -12,7 +12,7 @@ use super::engine::{
     WeightedKind,
 };
 use super::norm::{SNorm, TNorm, key};
-use super::rule::Rule;
+use super::rule::{Rule, Vocabulary};
 use super::term::Term;
 use crate::diagnostic::SourceError;
 use crate::lex::{number, parse_number};
@@ -269,8 +269,9 @@ pub fn import(text: &str, file: &str) -> Result<Engine, SourceError> {
     let mut variables_only = engine.clone();
     variables_only.rule_blocks.clear();
     variables_only.validate().map_err(|e| places.error(file, e))?;
+    let names = Vocabulary::new(&engine.inputs, &engine.outputs);
     for r in rules {
-        let rule = Rule::parse(&r.text, &engine.inputs, &engine.outputs)
+        let rule = Rule::parse_in(&r.text, &names)
             .map_err(|e| SourceError::new(file, r.line, r.col + e.col - 1, e.message))?;
         engine.rule_blocks[r.block].rules.push(rule);
         places.rules[r.block].push((r.line, r.col));

@@ -14,6 +14,8 @@
 //! deep and holds at most [`MAX_PROPOSITIONS`] propositions, so every walk over it (parsing,
 //! compiling, printing, dropping) has bounded depth whatever the input text.
 
+use std::collections::BTreeMap;
+
 use super::norm::Hedge;
 use super::variable::{InputVariable, OutputVariable};
 
@@ -122,17 +124,61 @@ fn tokenize(text: &str) -> Vec<Token<'_>> {
     tokens
 }
 
-struct Parser<'a, 'v> {
+/// The names rules refer to, indexed once for any number of rules: the variables by name and
+/// each variable's terms by name (the first of a name, as a search in order would find it), so
+/// parsing a rule costs what it says, not the size of the engine.
+#[derive(Debug, Clone)]
+pub struct Vocabulary<'v> {
+    inputs: &'v [InputVariable],
+    outputs: &'v [OutputVariable],
+    input_index: BTreeMap<&'v str, usize>,
+    output_index: BTreeMap<&'v str, usize>,
+    input_terms: Vec<BTreeMap<&'v str, usize>>,
+    output_terms: Vec<BTreeMap<&'v str, usize>>,
+}
+
+/// `names` indexed by name, the first of each name kept.
+fn first_of<'v>(names: impl Iterator<Item = &'v str>) -> BTreeMap<&'v str, usize> {
+    let mut index = BTreeMap::new();
+    for (i, n) in names.enumerate() {
+        index.entry(n).or_insert(i);
+    }
+    index
+}
+
+impl<'v> Vocabulary<'v> {
+    /// The names of these variables and their terms.
+    pub fn new(inputs: &'v [InputVariable], outputs: &'v [OutputVariable]) -> Self {
+        let terms = |ts: &'v [super::variable::NamedTerm]| first_of(ts.iter().map(|t| t.name.as_str()));
+        Vocabulary {
+            inputs,
+            outputs,
+            input_index: first_of(inputs.iter().map(|v| v.name.as_str())),
+            output_index: first_of(outputs.iter().map(|v| v.name.as_str())),
+            input_terms: inputs.iter().map(|v| terms(&v.terms)).collect(),
+            output_terms: outputs.iter().map(|v| terms(&v.terms)).collect(),
+        }
+    }
+
+    /// The name, the terms and the term index of a variable.
+    fn variable(&self, v: VariableRef) -> (&'v str, &'v [super::variable::NamedTerm], &BTreeMap<&'v str, usize>) {
+        match v {
+            VariableRef::Input(i) => (&self.inputs[i].name, &self.inputs[i].terms, &self.input_terms[i]),
+            VariableRef::Output(o) => (&self.outputs[o].name, &self.outputs[o].terms, &self.output_terms[o]),
+        }
+    }
+}
+
+struct Parser<'a, 'v, 'n> {
     tokens: Vec<Token<'a>>,
     pos: usize,
     end_col: usize,
     depth: usize,
     propositions: usize,
-    inputs: &'v [InputVariable],
-    outputs: &'v [OutputVariable],
+    names: &'n Vocabulary<'v>,
 }
 
-impl<'a> Parser<'a, '_> {
+impl<'a> Parser<'a, '_, '_> {
     fn peek(&self) -> Option<Token<'a>> {
         self.tokens.get(self.pos).copied()
     }
@@ -193,16 +239,13 @@ impl<'a> Parser<'a, '_> {
             }
             return Ok(inner);
         }
-        let (variable, name, terms): (VariableRef, &str, Vec<&str>) =
-            if let Some(i) = self.inputs.iter().position(|v| v.name == t.text) {
-                let v = &self.inputs[i];
-                (VariableRef::Input(i), &v.name, v.terms.iter().map(|t| t.name.as_str()).collect())
-            } else if let Some(o) = self.outputs.iter().position(|v| v.name == t.text) {
-                let v = &self.outputs[o];
-                (VariableRef::Output(o), &v.name, v.terms.iter().map(|t| t.name.as_str()).collect())
-            } else {
-                return Err(RuleError { col: t.col, message: format!("unknown variable '{}'", t.text) });
-            };
+        let variable = if let Some(&i) = self.names.input_index.get(t.text) {
+            VariableRef::Input(i)
+        } else if let Some(&o) = self.names.output_index.get(t.text) {
+            VariableRef::Output(o)
+        } else {
+            return Err(RuleError { col: t.col, message: format!("unknown variable '{}'", t.text) });
+        };
         self.propositions += 1;
         if self.propositions > MAX_PROPOSITIONS {
             return Err(RuleError {
@@ -211,21 +254,21 @@ impl<'a> Parser<'a, '_> {
             });
         }
         self.keyword("is")?;
-        let (hedges, term) = self.hedged_term(name, &terms, true)?;
+        let (hedges, term) = self.hedged_term(variable, true)?;
         Ok(Antecedent::Proposition(Proposition { variable, hedges, term }))
     }
 
     /// Reads `hedge* term` (or `hedge* any` when `allow_any`). Term names win over hedge words.
     fn hedged_term(
         &mut self,
-        var_name: &str,
-        terms: &[&str],
+        variable: VariableRef,
         allow_any: bool,
     ) -> Result<(Vec<Hedge>, Option<usize>), RuleError> {
+        let (var_name, terms, index) = self.names.variable(variable);
         let mut hedges = Vec::new();
         loop {
             let t = self.next(&format!("a term of '{var_name}'"))?;
-            if let Some(i) = terms.iter().position(|name| *name == t.text) {
+            if let Some(&i) = index.get(t.text) {
                 return Ok((hedges, Some(i)));
             }
             match Hedge::from_name(t.text) {
@@ -243,7 +286,7 @@ impl<'a> Parser<'a, '_> {
                         message: format!(
                             "unknown term '{}' for variable '{var_name}' (terms: {})",
                             t.text,
-                            terms.join(", ")
+                            terms.iter().map(|t| t.name.as_str()).collect::<Vec<_>>().join(", ")
                         ),
                     });
                 }
@@ -253,8 +296,8 @@ impl<'a> Parser<'a, '_> {
 
     fn conclusion(&mut self) -> Result<Conclusion, RuleError> {
         let t = self.next("an output variable")?;
-        let variable = self.outputs.iter().position(|v| v.name == t.text).ok_or_else(|| {
-            let message = if self.inputs.iter().any(|v| v.name == t.text) {
+        let variable = self.names.output_index.get(t.text).copied().ok_or_else(|| {
+            let message = if self.names.input_index.contains_key(t.text) {
                 format!("'{}' is an input variable; conclusions take output variables", t.text)
             } else {
                 format!("unknown output variable '{}'", t.text)
@@ -262,8 +305,7 @@ impl<'a> Parser<'a, '_> {
             RuleError { col: t.col, message }
         })?;
         self.keyword("is")?;
-        let terms: Vec<&str> = self.outputs[variable].terms.iter().map(|t| t.name.as_str()).collect();
-        let (hedges, term) = self.hedged_term(&self.outputs[variable].name, &terms, false)?;
+        let (hedges, term) = self.hedged_term(VariableRef::Output(variable), false)?;
         let term = term.ok_or_else(|| RuleError { col: t.col, message: "missing term".into() })?;
         Ok(Conclusion { variable, hedges, term })
     }
@@ -272,9 +314,14 @@ impl<'a> Parser<'a, '_> {
 impl Rule {
     /// Parses rule text against the engine's variables.
     pub fn parse(text: &str, inputs: &[InputVariable], outputs: &[OutputVariable]) -> Result<Rule, RuleError> {
+        Rule::parse_in(text, &Vocabulary::new(inputs, outputs))
+    }
+
+    /// Parses rule text against the names of an engine's variables, indexed once for many rules.
+    pub fn parse_in(text: &str, names: &Vocabulary<'_>) -> Result<Rule, RuleError> {
         let tokens = tokenize(text);
         let end_col = text.chars().count() + 1;
-        let mut p = Parser { tokens, pos: 0, end_col, depth: 0, propositions: 0, inputs, outputs };
+        let mut p = Parser { tokens, pos: 0, end_col, depth: 0, propositions: 0, names };
         p.keyword("if")?;
         let antecedent = p.antecedent()?;
         p.keyword("then")?;

@@ -354,6 +354,11 @@ impl Term {
         {
             return Err(format!("width {w} must be positive"));
         }
+        if self.derived().iter().any(|d| !d.is_finite()) {
+            return Err("its parameters overflow its arithmetic (a span between them, its square or a width's \
+                        reciprocal is beyond the largest number), so it could only give NaN or infinity"
+                .into());
+        }
         match *self {
             Term::Arc { start, end, .. } | Term::SemiEllipse { start, end, .. } if start == end => {
                 Err(format!("start and end are both {start}; the term needs a width"))
@@ -362,6 +367,42 @@ impl Term {
                 Err(format!("direction {direction} equals the start; it must lie above or below it"))
             }
             _ => Ok(()),
+        }
+    }
+
+    /// What the membership function computes from its parameters alone before it reads `x`:
+    /// the spans it divides by or squares, the reciprocals of its widths and the ends it
+    /// compares `x` with (shoulders at ±∞ left out). [`Term::check`] refuses a term where one
+    /// is not finite.
+    fn derived(&self) -> Vec<f64> {
+        // A span between two parameters, 0 when one is an infinite shoulder.
+        let span = |p: f64, q: f64| if p.is_finite() && q.is_finite() { q - p } else { 0.0 };
+        match *self {
+            Term::Triangle { a, b, c, .. } => vec![span(a, b), span(b, c)],
+            Term::Trapezoid { a, b, c, d, .. } => vec![span(a, b), span(b, c), span(c, d)],
+            Term::Ramp { start, end, .. } | Term::SShape { start, end, .. } | Term::ZShape { start, end, .. } => {
+                vec![end - start, 0.5 * (start + end)]
+            }
+            Term::PiShape { bottom_left, top_left, top_right, bottom_right, .. } => vec![
+                top_left - bottom_left,
+                0.5 * (bottom_left + top_left),
+                bottom_right - top_right,
+                0.5 * (top_right + bottom_right),
+            ],
+            Term::Gaussian { sd, .. } => vec![2.0 * (sd * sd), 1.0 / (2.0 * (sd * sd))],
+            Term::GaussianProduct { sd_a, sd_b, .. } => {
+                vec![2.0 * (sd_a * sd_a), 1.0 / (2.0 * (sd_a * sd_a)), 2.0 * (sd_b * sd_b), 1.0 / (2.0 * (sd_b * sd_b))]
+            }
+            Term::Spike { width, .. } => vec![10.0 / width],
+            Term::Cosine { center, width, .. } => vec![2.0 / width * PI, center - 0.5 * width, center + 0.5 * width],
+            Term::Concave { inflection, end, .. } => vec![end - inflection, 2.0 * end - inflection],
+            Term::Discrete { ref points, .. } => points.windows(2).map(|w| w[1].0 - w[0].0).collect(),
+            Term::Arc { start, end, .. } => vec![(end - start) * (end - start)],
+            Term::SemiEllipse { start, end, .. } => {
+                let r = 0.5 * (end - start);
+                vec![r * r, start + r]
+            }
+            _ => Vec::new(),
         }
     }
 
@@ -845,6 +886,37 @@ mod tests {
         assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 5.0]).is_err());
         assert!(check("Discrete", &[0.0, 0.0, 1.0, 1.0, 0.5]).is_ok());
         assert!(check("Discrete", &[0.0, 0.0, 1.0, inf]).is_err());
+    }
+
+    #[test]
+    fn terms_whose_arithmetic_overflows_fail_the_check() {
+        let term = |class: &str, p: &[f64]| Term::from_parameters(class, p).unwrap();
+        // At a point where its shape is well above 0, each gives NaN or 0 (a span, square or
+        // reciprocal at infinity), and the check says so.
+        for (class, p, x) in [
+            ("Arc", &[-1e308, 1e308][..], 0.0),
+            ("SemiEllipse", &[-1e308, 1e308], 0.0),
+            ("Arc", &[0.0, 1e200], 1e199),
+            ("Triangle", &[-1e308, 1e308, 1e308], 0.0),
+            ("Ramp", &[-1e308, 1e308], 1.0),
+            ("SShape", &[-1e308, 1e308], -1e307),
+            ("Gaussian", &[0.0, 1e-200], 0.0),
+            ("Spike", &[0.0, 1e-320], 0.0),
+            ("Cosine", &[0.0, 1e-320], 0.0),
+            ("Discrete", &[-1e308, 0.0, 1e308, 1.0], 0.0),
+        ] {
+            let t = term(class, p);
+            let m = t.membership(x);
+            assert!(!(m.is_finite() && m > 0.0), "{class} {p:?} at {x}: {m}");
+            let e = t.check().unwrap_err();
+            assert!(e.contains("overflow its arithmetic"), "{class} {p:?}: {e}");
+        }
+        // Wide but computable.
+        for (class, p) in
+            [("Arc", &[-1e150, 1e150][..]), ("Triangle", &[-1e307, 0.0, 1e307]), ("Gaussian", &[0.0, 1e-100])]
+        {
+            assert_eq!(term(class, p).check(), Ok(()), "{class} {p:?}");
+        }
     }
 
     #[test]

@@ -201,7 +201,26 @@ impl Defuzzifier {
     }
 }
 
+/// Why a finite range `[min, max]` cannot be computed with: its width is beyond the largest
+/// number (`None` when it is not).
+pub fn range_overflow(min: f64, max: f64) -> Option<String> {
+    (min.is_finite() && max.is_finite() && !(max - min).is_finite())
+        .then(|| format!("the range [{min:?}, {max:?}] is wider than the largest number"))
+}
+
 impl OutputVariable {
+    /// Why this output's integral defuzzifier cannot be computed over its finite range: it sums
+    /// `resolution` samples of `x` (and of `x` times a degree), which would pass the largest
+    /// number (`None` when it would not).
+    pub fn sum_overflow(&self) -> Option<String> {
+        let d = self.defuzzifier?;
+        let n = d.resolution()?;
+        let (min, max) = (self.minimum, self.maximum);
+        (min.is_finite() && max.is_finite() && !(n as f64 * min.abs().max(max.abs())).is_finite()).then(|| {
+            format!("{} sums {n} samples over [{min:?}, {max:?}], which overflows; use a smaller range", d.name())
+        })
+    }
+
     /// A new enabled output: maximum aggregation, centroid at the default resolution,
     /// default value NaN.
     pub fn new(name: &str, minimum: f64, maximum: f64) -> Self {

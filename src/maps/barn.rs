@@ -1,7 +1,8 @@
 //! The BARN challenge's own files (the Benchmark Autonomous Robot Navigation challenge, MIT
 //! licence): a Gazebo world `world_N.world` (SDF) whose `unit_cylinder_*` models are the
-//! obstacles, and its reference path `path_N.npy`, a NumPy array of grid cells (row, column) of
-//! 0.15 m. The challenge's task is fixed: start at (−2.25, 3) facing +y, goal 10 m ahead
+//! obstacles (at most [`MAX_OBSTACLES`], counted before any is built), and its reference path
+//! `path_N.npy`, a NumPy array of grid cells (row, column) of 0.15 m on the challenge's map of
+//! [`GRID_CELLS`] × [`GRID_CELLS`] (a cell off it would stretch the reference to nonsense). The challenge's task is fixed: start at (−2.25, 3) facing +y, goal 10 m ahead
 //! within 1 m, 100 s; its reference length runs from the start through the path's cells (each
 //! at `(0.15·row − 4.575, 0.15·column + 5.075)`) to the goal, as the challenge measures it.
 //!
@@ -12,7 +13,7 @@
 use glam::DVec2;
 
 use crate::diagnostic::SourceError;
-use crate::scenario::{Reference, Scenario};
+use crate::scenario::{MAX_OBSTACLES, Reference, Scenario};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, World};
 
 /// Where the challenge starts: (−2.25, 3), facing +y.
@@ -25,8 +26,8 @@ pub const GOAL_RADIUS_M: f64 = 1.0;
 pub const TIME_LIMIT_S: f64 = 100.0;
 /// Side of the path's grid cells, metres (the cylinders' diameter).
 pub const CELL_M: f64 = 0.15;
-/// Most cylinders a world may hold.
-const MAX_CYLINDERS: usize = 100_000;
+/// Rows and columns of the challenge's map: its path's cells lie on a 30 × 30 grid (4.5 m square).
+pub const GRID_CELLS: i64 = 30;
 /// Most cells a path may hold.
 const MAX_PATH_CELLS: usize = 1_000_000;
 
@@ -36,8 +37,9 @@ pub fn cell_point(row: i64, column: i64) -> DVec2 {
     DVec2::new(row as f64 * CELL_M - r - 30.0 * CELL_M, column as f64 * CELL_M + r + 5.0)
 }
 
-/// The reference path's cells from the bytes of a `path_N.npy` file (an integer or float array
-/// of shape (n, 2)).
+/// The reference path's cells from the bytes of a `path_N.npy` file: an integer (signed or
+/// unsigned, 1 to 8 bytes) or float (4 or 8 bytes) array of shape (n, 2), each cell on the
+/// challenge's map of [`GRID_CELLS`] × [`GRID_CELLS`].
 pub fn parse_path(bytes: &[u8], file: &str) -> Result<Vec<(i64, i64)>, SourceError> {
     let err = |m: String| SourceError::new(file, 0, 0, m);
     let npy = npyz::NpyFile::new(bytes).map_err(|e| err(format!("not a NumPy array file: {e}")))?;
@@ -51,20 +53,51 @@ pub fn parse_path(bytes: &[u8], file: &str) -> Result<Vec<(i64, i64)>, SourceErr
     if npy.order() != npyz::Order::C {
         return Err(err("expected a C-ordered array (fortran_order False)".into()));
     }
-    let values: Vec<i64> = match npy.dtype() {
-        npyz::DType::Plain(t) if t.type_char() == npyz::TypeChar::Float => npy
-            .into_vec::<f64>()
-            .map_err(|e| err(format!("cannot read the cells: {e}")))?
-            .into_iter()
-            .map(|v| if v.is_finite() && v.fract() == 0.0 && v.abs() < 1e9 { Ok(v as i64) } else { Err(v) })
-            .collect::<Result<_, _>>()
-            .map_err(|v| err(format!("a cell index is not a whole number: {v}")))?,
-        _ => npy.into_vec::<i64>().map_err(|e| err(format!("cannot read the cells as integers: {e}")))?,
+    let dtype = npy.dtype();
+    let kind = match &dtype {
+        npyz::DType::Plain(t) => Some((t.type_char(), t.size_field())),
+        _ => None,
     };
-    if values.iter().any(|v| v.abs() > 1_000_000) {
-        return Err(err("a cell index is beyond a million".into()));
+    use npyz::TypeChar::{Float, Int, Uint};
+    match kind {
+        Some((Int, 1)) => cells_of(npy, file, |v: i8| v as f64),
+        Some((Int, 2)) => cells_of(npy, file, |v: i16| v as f64),
+        Some((Int, 4)) => cells_of(npy, file, |v: i32| v as f64),
+        Some((Int, 8)) => cells_of(npy, file, |v: i64| v as f64),
+        Some((Uint, 1)) => cells_of(npy, file, |v: u8| v as f64),
+        Some((Uint, 2)) => cells_of(npy, file, |v: u16| v as f64),
+        Some((Uint, 4)) => cells_of(npy, file, |v: u32| v as f64),
+        Some((Uint, 8)) => cells_of(npy, file, |v: u64| v as f64),
+        Some((Float, 4)) => cells_of(npy, file, |v: f32| v as f64),
+        Some((Float, 8)) => cells_of(npy, file, |v: f64| v),
+        _ => Err(err(format!("the cells must be integers or floats, not `{}`", dtype.descr()))),
     }
-    Ok(values.chunks_exact(2).map(|c| (c[0], c[1])).collect())
+}
+
+/// The cells of a path file whose numbers are `T`, each a whole number on the challenge's map
+/// (`value` gives a number's value; a whole number beyond 2^53 is still off the map).
+fn cells_of<T>(npy: npyz::NpyFile<&[u8]>, file: &str, value: impl Fn(T) -> f64) -> Result<Vec<(i64, i64)>, SourceError>
+where
+    T: npyz::Deserialize + Copy + std::fmt::Display,
+{
+    let err = |m: String| SourceError::new(file, 0, 0, m);
+    let numbers = npy.into_vec::<T>().map_err(|e| err(format!("cannot read the cells: {e}")))?;
+    let mut indices = Vec::with_capacity(numbers.len());
+    for (k, &n) in numbers.iter().enumerate() {
+        let (cell, axis) = (k / 2 + 1, if k % 2 == 0 { "row" } else { "column" });
+        let v = value(n);
+        if !(v.is_finite() && v.fract() == 0.0) {
+            return Err(err(format!("cell {cell}: its {axis} {n} is not a whole number")));
+        }
+        if !(0.0..GRID_CELLS as f64).contains(&v) {
+            return Err(err(format!(
+                "cell {cell}: its {axis} {n} is off the challenge's map of {GRID_CELLS} × {GRID_CELLS} cells (0 to {})",
+                GRID_CELLS - 1
+            )));
+        }
+        indices.push(v as i64);
+    }
+    Ok(indices.chunks_exact(2).map(|c| (c[0], c[1])).collect())
 }
 
 /// The length of the challenge's reference path through `cells`: from the start through each
@@ -83,9 +116,14 @@ pub fn reference_length(cells: &[(i64, i64)]) -> f64 {
 /// errors) with the challenge's task, and the reference path's cells when known.
 pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)]>) -> Result<Scenario, SourceError> {
     let doc = roxmltree::Document::parse(text).map_err(|e| {
-        let p = e.pos();
-        SourceError::new(file, p.row as usize, p.col as usize, format!("not an SDF world: {e}"))
+        // A document cut short is reported where it ends, not where roxmltree leaves it (1:1).
+        let (line, col) = match e {
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => end_of(text),
+            _ => (e.pos().row as usize, e.pos().col as usize),
+        };
+        SourceError::new(file, line, col, format!("not an SDF world: {e}"))
     })?;
+    // Positions are found only for an error: each costs a walk from the start of the text.
     let at = |n: roxmltree::Node| {
         let p = doc.text_pos_at(n.range().start);
         (p.row as usize, p.col as usize)
@@ -95,15 +133,24 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
         .children()
         .find(|n| n.has_tag_name("world"))
         .ok_or_else(|| SourceError::new(file, 1, 1, "no <world> element under <sdf>"))?;
-    let mut obstacles = Vec::new();
     // The world's own models (the <state> element repeats them with their current poses).
-    for model in world.children().filter(|n| n.has_tag_name("model")) {
+    let cylinders = || {
+        world
+            .children()
+            .filter(|n| n.has_tag_name("model") && n.attribute("name").unwrap_or("").starts_with("unit_cylinder"))
+    };
+    // Counted before any is built, so an oversized world is refused at once.
+    if let Some(extra) = cylinders().nth(MAX_OBSTACLES) {
+        let (line, col) = at(extra);
+        return Err(SourceError::new(file, line, col, format!("more than {MAX_OBSTACLES} cylinders")));
+    }
+    let mut obstacles = Vec::new();
+    for model in cylinders() {
         let model_name = model.attribute("name").unwrap_or("");
-        if !model_name.starts_with("unit_cylinder") {
-            continue;
-        }
-        let (line, col) = at(model);
-        let located = |m: String| SourceError::new(file, line, col, format!("model `{model_name}`: {m}"));
+        let located = |m: String| {
+            let (line, col) = at(model);
+            SourceError::new(file, line, col, format!("model `{model_name}`: {m}"))
+        };
         let pose = model
             .children()
             .find(|n| n.has_tag_name("pose"))
@@ -129,9 +176,6 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
         let o = Obstacle::build(shape, crate::world::obstacle::DEFAULT_Z.0, crate::world::obstacle::DEFAULT_Z.1)
             .map_err(|e| located(format!("invalid cylinder: {e}")))?;
         obstacles.push(o);
-        if obstacles.len() > MAX_CYLINDERS {
-            return Err(located(format!("more than {MAX_CYLINDERS} cylinders")));
-        }
     }
     if obstacles.is_empty() {
         return Err(SourceError::new(file, 0, 0, "no `unit_cylinder` models: not a BARN world"));
@@ -151,6 +195,12 @@ pub fn parse_world(text: &str, file: &str, name: &str, path: Option<&[(i64, i64)
     }
     scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
     Ok(scenario)
+}
+
+/// The line and column just past the end of `text` (columns count characters, as roxmltree's).
+fn end_of(text: &str) -> (usize, usize) {
+    let last = text.rfind('\n').map_or(text, |i| &text[i + 1..]);
+    (text.matches('\n').count() + 1, last.chars().count() + 1)
 }
 
 #[cfg(test)]
@@ -176,7 +226,13 @@ mod tests {
 
     /// The bytes of a NumPy file of int64 cells.
     pub(crate) fn npy(cells: &[(i64, i64)]) -> Vec<u8> {
-        let header = format!("{{'descr': '<i8', 'fortran_order': False, 'shape': ({}, 2), }}", cells.len());
+        let numbers: Vec<Vec<u8>> = cells.iter().flat_map(|&(r, c)| [r, c]).map(|v| v.to_le_bytes().to_vec()).collect();
+        npy_of("<i8", cells.len(), &numbers)
+    }
+
+    /// The bytes of a NumPy file of `rows` cells of type `descr`, each number's bytes given.
+    fn npy_of(descr: &str, rows: usize, numbers: &[Vec<u8>]) -> Vec<u8> {
+        let header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, 2), }}");
         let pad = 64 - (10 + header.len() + 1) % 64;
         let mut out = b"\x93NUMPY\x01\x00".to_vec();
         let len = (header.len() + pad + 1) as u16;
@@ -184,9 +240,8 @@ mod tests {
         out.extend(header.bytes());
         out.extend(std::iter::repeat_n(b' ', pad));
         out.push(b'\n');
-        for &(r, c) in cells {
-            out.extend(r.to_le_bytes());
-            out.extend(c.to_le_bytes());
+        for n in numbers {
+            out.extend(n);
         }
         out
     }
@@ -210,9 +265,59 @@ mod tests {
     }
 
     #[test]
+    fn paths_of_every_integer_and_float_type_read_alike() {
+        let cells = [(15u8, 0u8), (15, 1), (29, 29)];
+        // The bytes of one number of a type.
+        type Bytes = fn(u8) -> Vec<u8>;
+        let numbers = |f: Bytes| -> Vec<Vec<u8>> { cells.iter().flat_map(|&(r, c)| [f(r), f(c)]).collect() };
+        let want: Vec<(i64, i64)> = cells.iter().map(|&(r, c)| (r.into(), c.into())).collect();
+        let kinds: [(&str, Bytes); 8] = [
+            ("<i1", |v| vec![v]),
+            ("<u1", |v| vec![v]),
+            ("<i2", |v| i16::from(v).to_le_bytes().to_vec()),
+            ("<i4", |v| i32::from(v).to_le_bytes().to_vec()),
+            (">i4", |v| i32::from(v).to_be_bytes().to_vec()),
+            ("<u8", |v| u64::from(v).to_le_bytes().to_vec()),
+            ("<f4", |v| f32::from(v).to_le_bytes().to_vec()),
+            ("<f8", |v| f64::from(v).to_le_bytes().to_vec()),
+        ];
+        for (descr, f) in kinds {
+            let got = parse_path(&npy_of(descr, cells.len(), &numbers(f)), "p.npy");
+            assert_eq!(got.as_deref(), Ok(&want[..]), "{descr}");
+        }
+        let halves = numbers(|v| (f32::from(v) + 0.5).to_le_bytes().to_vec());
+        let e = parse_path(&npy_of("<f4", cells.len(), &halves), "p.npy").unwrap_err();
+        assert!(e.message.contains("cell 1: its row 15.5 is not a whole number"), "{e}");
+        let e = parse_path(&npy_of("|b1", 1, &[vec![1], vec![0]]), "p.npy").unwrap_err();
+        assert!(e.message.contains("integers or floats"), "{e}");
+    }
+
+    #[test]
+    fn cells_off_the_challenge_map_are_refused() {
+        for (cell, what) in [
+            ((30, 0), "cell 2: its row 30 is off"),
+            ((0, -1), "cell 2: its column -1 is off"),
+            ((i64::MIN, 0), "cell 2: its row -9223372036854775808 is off"),
+            ((0, i64::MAX), "cell 2: its column 9223372036854775807 is off"),
+        ] {
+            let e = parse_path(&npy(&[(15, 0), cell]), "p.npy").unwrap_err();
+            assert!(e.message.contains(what), "{e}");
+        }
+        let far = u64::MAX.to_le_bytes().to_vec();
+        let e = parse_path(&npy_of("<u8", 1, &[far, 0u64.to_le_bytes().to_vec()]), "p.npy").unwrap_err();
+        assert!(e.message.contains("its row 18446744073709551615 is off"), "{e}");
+    }
+
+    #[test]
     fn bad_worlds_and_paths_are_located_errors() {
+        // Cut short: located where the text ends, not at its start.
         let e = parse_world("<sdf><world>", "w.world", "w", None).unwrap_err();
-        assert!(e.line >= 1 && e.message.contains("not an SDF world"), "{e}");
+        assert_eq!((e.line, e.col), (1, 13), "{e}");
+        assert!(e.message.contains("not an SDF world"), "{e}");
+        let whole = world(&[(0.0, 0.0, 0.075), (1.0, 1.0, 0.075)]);
+        let cut = &whole[..whole.find("unit_cylinder_1").unwrap()];
+        let e = parse_world(cut, "w.world", "w", None).unwrap_err();
+        assert_eq!((e.line, e.col), (5, cut.lines().last().unwrap().chars().count() + 1), "{e}");
         let text = world(&[(0.0, 0.0, 0.075)]).replace("<radius>0.075</radius>", "<radius>wide</radius>");
         let e = parse_world(&text, "w.world", "w", None).unwrap_err();
         assert_eq!(e.line, 4, "{e}");

@@ -32,7 +32,8 @@
 //! before it, or a `start` never followed by a `goal`, is an error. The BARN challenge worlds and
 //! the Menge U-trap scenario are files of this format.
 //!
-//! Errors name the file, the line and the column of the offending token. After reading, the
+//! Errors name the file, the line and the column of the offending token; a line that takes the
+//! world past its bounds ([`WorldBudget`]) is refused as it is read. After reading, the
 //! parser checks that no start or goal lies within the agent radius of an obstacle and then runs
 //! [`Scenario::validate`]. [`write`] prints a scenario in this format with shortest
 //! round-tripping numbers, so [`parse`] gives back the same obstacles and tasks.
@@ -46,7 +47,7 @@ use super::{TaskEnd, first_blocked_task};
 use crate::diagnostic::SourceError;
 use crate::geom::GeomError;
 use crate::lex::{Tok, tokenize};
-use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario};
+use crate::scenario::{BARN_SPEED_MPS, Reference, Scenario, WorldBudget};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, MAX_STAIR_TREADS, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain, World};
@@ -194,6 +195,7 @@ struct Parser<'f> {
     time_limit_line: Option<usize>,
     z: (f64, f64),
     features: Vec<TerrainFeature>,
+    budget: WorldBudget,
 }
 
 impl<'f> Parser<'f> {
@@ -211,6 +213,7 @@ impl<'f> Parser<'f> {
             time_limit_line: None,
             z: DEFAULT_Z,
             features: Vec::new(),
+            budget: WorldBudget::default(),
         }
     }
 
@@ -498,6 +501,7 @@ impl<'f> Parser<'f> {
     ) -> Result<(), SourceError> {
         let feature = TerrainFeature::new(shape, kind)
             .map_err(|e| self.err(line, kw.col, format!("invalid `{}`: {e}", kw.text)))?;
+        self.budget.feature(&feature).map_err(|m| self.err(line, kw.col, m))?;
         self.features.push(feature);
         Ok(())
     }
@@ -511,6 +515,7 @@ impl<'f> Parser<'f> {
     ) -> Result<(), SourceError> {
         match Obstacle::build(shape, self.z.0, self.z.1) {
             Ok(o) => {
+                self.budget.obstacle(&o).map_err(|m| self.err(line, kw.col, m))?;
                 self.scenario.obstacles.push(o);
                 self.obstacle_lines.push(line);
                 Ok(())
@@ -521,6 +526,7 @@ impl<'f> Parser<'f> {
                     GeomError::RepeatedPoint { second, .. } => Some(*second),
                     GeomError::NotConvex { index } => Some(*index),
                     GeomError::SelfIntersecting { second, .. } => Some(*second),
+                    GeomError::TooManyPoints { max, .. } => Some(*max),
                     _ => None,
                 };
                 let col = match (kw.text, point) {

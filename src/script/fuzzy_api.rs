@@ -21,6 +21,7 @@ use std::rc::Rc;
 use rhai::{Array, Dynamic, EvalAltResult, ImmutableString, NativeCallContext};
 
 use crate::fuzzy::fll;
+use crate::fuzzy::variable::range_overflow;
 use crate::fuzzy::{
     Activation, Defuzzifier, Engine, InputVariable, NamedTerm, OutputVariable, RuleBlock, SNorm, TNorm, Term,
 };
@@ -127,18 +128,34 @@ fn new_variable(e: &mut EngineHandle, name: &str, min: Dynamic, max: Dynamic, ou
     if !(min.is_finite() && max.is_finite()) || min >= max {
         return fail(format!("variable '{name}': range [{min}, {max}] must be finite and not empty or inverted"));
     }
+    if let Some(m) = range_overflow(min, max) {
+        return fail(format!("variable '{name}': {m}"));
+    }
     let mut engine = e.0.borrow_mut();
     if engine.inputs.iter().any(|v| v.name == name) || engine.outputs.iter().any(|v| v.name == name) {
         return fail(format!("a variable named '{name}' already exists"));
     }
     let index = if output {
-        engine.outputs.push(OutputVariable::new(name, min, max));
+        let v = OutputVariable::new(name, min, max);
+        if let Some(m) = v.sum_overflow() {
+            return fail(format!("variable '{name}': {m}"));
+        }
+        engine.outputs.push(v);
         engine.outputs.len() - 1
     } else {
         engine.inputs.push(InputVariable::new(name, min, max));
         engine.inputs.len() - 1
     };
     Ok(VariableHandle { engine: e.0.clone(), output, index })
+}
+
+/// Gives output `o` the defuzzifier `d`, refused when its sums would overflow over the range.
+fn set_defuzzifier(o: &mut OutputVariable, d: Option<Defuzzifier>) -> Res<()> {
+    o.defuzzifier = d;
+    match o.sum_overflow() {
+        Some(m) => fail(format!("variable '{}': {m}", o.name)),
+        None => Ok(()),
+    }
 }
 
 /// Registers the fuzzy builder API on `engine`.
@@ -278,8 +295,7 @@ pub fn register(engine: &mut rhai::Engine) {
     });
     engine.register_fn("defuzzifier", |v: &mut VariableHandle, name: &str| -> Res<VariableHandle> {
         v.with_output("defuzzifier", |o| {
-            o.defuzzifier = if name == "none" { None } else { Some(Defuzzifier::from_name(name, None)?) };
-            Ok(())
+            set_defuzzifier(o, if name == "none" { None } else { Some(Defuzzifier::from_name(name, None)?) })
         })?;
         Ok(v.clone())
     });
@@ -290,10 +306,7 @@ pub fn register(engine: &mut rhai::Engine) {
             let r = number(&param, "defuzzifier parameter")?;
             format!("{r}")
         };
-        v.with_output("defuzzifier", |o| {
-            o.defuzzifier = Some(Defuzzifier::from_name(name, Some(&param))?);
-            Ok(())
-        })?;
+        v.with_output("defuzzifier", |o| set_defuzzifier(o, Some(Defuzzifier::from_name(name, Some(&param))?)))?;
         Ok(v.clone())
     });
     engine.register_fn("default_value", |v: &mut VariableHandle, value: Dynamic| -> Res<VariableHandle> {

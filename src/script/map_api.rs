@@ -34,7 +34,7 @@ use glam::DVec2;
 use rhai::{Array, Dynamic, EvalAltResult};
 
 use crate::diagnostic::SourceError;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, WorldBudget};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain};
@@ -48,6 +48,7 @@ struct MapState {
     z: Option<(f64, f64)>,
     time_limit_s: Option<f64>,
     features: Vec<TerrainFeature>,
+    budget: WorldBudget,
 }
 
 /// A world under construction in a script.
@@ -83,6 +84,7 @@ impl MapHandle {
         let mut st = self.0.borrow_mut();
         let (z0, z1) = st.z.unwrap_or(DEFAULT_Z);
         let o = Obstacle::build(shape, z0, z1).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
+        st.budget.obstacle(&o)?;
         if let Some(s) = st.scenario.as_mut() {
             s.obstacles.push(o);
         }
@@ -91,7 +93,9 @@ impl MapHandle {
 
     fn feature(&self, shape: ObstacleShape, kind: FeatureKind) -> Res<MapHandle> {
         let f = TerrainFeature::new(shape, kind).map_err(|e| -> Box<EvalAltResult> { e.to_string().into() })?;
-        self.0.borrow_mut().features.push(f);
+        let mut st = self.0.borrow_mut();
+        st.budget.feature(&f)?;
+        st.features.push(f);
         Ok(self.clone())
     }
 }

@@ -70,6 +70,11 @@ pub const UPPER_BAND_MIN_Z_M: f64 = 1.0;
 /// is a wall to the whole body, and the upper body has nothing to plan about it.
 pub const BODY_TOP_M: f64 = 1.75;
 
+/// Most points one outline (`Convex`, `Polygon`) may have: far more than any obstacle's
+/// outline needs, and few enough that splitting it and planning round its pieces stays quick.
+/// Refused before any work is done on them.
+pub const MAX_OUTLINE_POINTS: usize = 10_000;
+
 /// Which planner an obstacle belongs to (seed 002 §3.2, §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Band {
@@ -105,6 +110,11 @@ impl Obstacle {
     pub fn build(shape: ObstacleShape, z_min: f64, z_max: f64) -> Result<Obstacle, GeomError> {
         if !(z_min.is_finite() && z_max.is_finite() && z_min < z_max) {
             return Err(GeomError::InvalidParameter { what: "vertical extent (z_min < z_max)", value: z_max - z_min });
+        }
+        if let ObstacleShape::Convex { points: outline } | ObstacleShape::Polygon { outline } = &shape
+            && outline.len() > MAX_OUTLINE_POINTS
+        {
+            return Err(GeomError::TooManyPoints { found: outline.len(), max: MAX_OUTLINE_POINTS });
         }
         let parts: Vec<Shape> = match &shape {
             ObstacleShape::Box { center, width, height, yaw } => {
