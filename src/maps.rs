@@ -8,6 +8,8 @@
 //! - [`barn`]: the BARN challenge's own files, a Gazebo `.world` and its `path_N.npy`.
 //! - [`movingai`]: MovingAI grid benchmarks (`.map` + `.scen`); blocked cells are merged into a
 //!   few axis-aligned boxes and the map is closed by boundary walls.
+//! - [`steersuite`]: SteerSuite's test cases (XML), every agent with its goal sequence as a
+//!   [`Crowd`](crate::scenario::crowd::Crowd), random parts drawn from a seed.
 //! - [`generate`]: seeded random worlds at the three densities of seed 000 Fig 2 (sparse,
 //!   semi-cluttered, cluttered), filled with boxes and cylinders in three sizes each and
 //!   solvable by construction.
@@ -31,6 +33,7 @@ pub mod grid;
 pub mod kind;
 pub mod maze;
 pub mod movingai;
+pub mod steersuite;
 pub mod text;
 
 pub use kind::WorldKind;
