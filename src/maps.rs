@@ -17,6 +17,8 @@
 //!   plus a few loops.
 //! - [`maze`]: seeded random mazes with 2–3 m corridors, carved depth first, with loops.
 //! - [`grid`]: seeded random grid maps of 1 m cells, 10–25 % blocked, in the MovingAI manner.
+//! - [`crowd`]: seeded crowds (`corridor`, `crossing`, `bottleneck`, `circle`) of a given
+//!   number of agents, each world one episode of all its agents.
 //! - [`kind`]: [`WorldKind`], the name of every generator (`random:KIND` on command lines),
 //!   and [`kind::generate`], the one entry point to all of them.
 //!
@@ -28,6 +30,7 @@
 pub mod barn;
 pub mod building;
 mod cells;
+pub mod crowd;
 pub mod generate;
 pub mod grid;
 pub mod kind;
