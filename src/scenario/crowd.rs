@@ -290,6 +290,17 @@ pub(crate) fn overlapped_obstacle(world: &World, p: DVec2, radius: f64, scratch:
 }
 
 impl CrowdAgent {
+    /// The agent a crowd makes of a world's task: unnamed, of `radius_m`, at rest, seeking the
+    /// task's goal at [`DEFAULT_DESIRED_SPEED_MPS`] for the task's time limit.
+    pub fn from_task(task: &Task, radius_m: f64) -> CrowdAgent {
+        let seek = Goal {
+            kind: GoalKind::SeekPoint(task.goal),
+            desired_speed_mps: DEFAULT_DESIRED_SPEED_MPS,
+            duration_s: task.time_limit_s,
+        };
+        CrowdAgent { name: String::new(), start: task.start, radius_m, speed_mps: 0.0, goals: vec![seek] }
+    }
+
     /// Checks one agent (index `me` of `n`).
     fn check(&self, me: usize, n: usize) -> Result<(), String> {
         let p = self.start.position;

@@ -17,7 +17,7 @@
 //! The goals' meanings are [`GoalKind`]'s. A world with a `crowd` or an `agent` line is a
 //! crowd. Its `start`/`goal` pairs are agents too, each where its `goal` line stands in the
 //! order: the world's `agent_radius`, speed 0, and one `seek` of its goal at
-//! [`DEFAULT_DESIRED_SPEED_MPS`] for its time limit (an agent arrives within its own radius,
+//! 1.3 m/s for its time limit ([`CrowdAgent::from_task`]) (an agent arrives within its own radius,
 //! so such a `goal` takes no radius of its own). The scenario's tasks are then the crowd's
 //! ([`Crowd::tasks`]).
 
@@ -27,7 +27,7 @@ use glam::DVec2;
 
 use crate::diagnostic::SourceError;
 use crate::lex::Tok;
-use crate::scenario::crowd::{Crowd, CrowdAgent, DEFAULT_DESIRED_SPEED_MPS, FlowKind, Goal, GoalKind};
+use crate::scenario::crowd::{Crowd, CrowdAgent, FlowKind, Goal, GoalKind};
 use crate::world::{Pose, Task};
 
 /// Where an agent came from in the file.
@@ -90,7 +90,10 @@ impl CrowdLines {
                     [] => {}
                     [t] if t.text == "stay" => self.stay = true,
                     [t, ..] => {
-                        return Err(err(t.col, format!("expected `stay` or nothing after `crowd`, found `{}`", t.text)));
+                        return Err(err(
+                            t.col,
+                            format!("expected `stay` or nothing after `crowd`, found `{}`", t.text),
+                        ));
                     }
                 }
                 self.crowd_line = Some(line);
@@ -215,18 +218,7 @@ impl CrowdLines {
                             "in a crowd an agent arrives within its own radius: drop this goal's radius",
                         ));
                     }
-                    let seek = GoalKind::SeekPoint(t.goal);
-                    agents.push(CrowdAgent {
-                        name: String::new(),
-                        start: t.start,
-                        radius_m: radius,
-                        speed_mps: 0.0,
-                        goals: vec![Goal {
-                            kind: seek,
-                            desired_speed_mps: DEFAULT_DESIRED_SPEED_MPS,
-                            duration_s: t.time_limit_s,
-                        }],
-                    });
+                    agents.push(CrowdAgent::from_task(&t, radius));
                     sources.push(source);
                 }
             }
