@@ -272,7 +272,7 @@ flee 0 0 1 5
 flow -1 0.5 1 5
 flow_dynamic boids 1 5
 flee_agent 3 1 5
-start 8 8 3.14
+start 8 8 2.5
 goal -8 -8
 time_limit 90
 box 0 3 1 1
@@ -303,7 +303,7 @@ box 0 3 1 1
             ]
         );
         // The start/goal pair is the third agent: the world's radius, one seek for its time limit.
-        assert_eq!((t.radius_m, t.speed_mps, t.start.yaw), (0.4, 0.0, 3.14));
+        assert_eq!((t.radius_m, t.speed_mps, t.start.yaw), (0.4, 0.0, 2.5));
         assert_eq!((t.goals[0].kind, t.goals[0].duration_s), (GoalKind::SeekPoint(DVec2::splat(-8.0)), 90.0));
         // The tasks are the crowd's; the agent radius the smallest.
         assert_eq!(s.tasks.len(), 3);
