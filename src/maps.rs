@@ -8,6 +8,8 @@
 //! - [`barn`]: the BARN challenge's own files, a Gazebo `.world` and its `path_N.npy`.
 //! - [`movingai`]: MovingAI grid benchmarks (`.map` + `.scen`); blocked cells are merged into a
 //!   few axis-aligned boxes and the map is closed by boundary walls.
+//! - [`steersuite`]: SteerSuite's test cases (XML), every agent with its goal sequence as a
+//!   [`Crowd`](crate::scenario::crowd::Crowd), random parts drawn from a seed.
 //! - [`generate`]: seeded random worlds at the three densities of seed 000 Fig 2 (sparse,
 //!   semi-cluttered, cluttered), filled with boxes and cylinders in three sizes each and
 //!   solvable by construction.
@@ -15,6 +17,8 @@
 //!   plus a few loops.
 //! - [`maze`]: seeded random mazes with 2–3 m corridors, carved depth first, with loops.
 //! - [`grid`]: seeded random grid maps of 1 m cells, 10–25 % blocked, in the MovingAI manner.
+//! - [`crowd`]: seeded crowds (`corridor`, `crossing`, `bottleneck`, `circle`) of a given
+//!   number of agents, each world one episode of all its agents.
 //! - [`kind`]: [`WorldKind`], the name of every generator (`random:KIND` on command lines),
 //!   and [`kind::generate`], the one entry point to all of them.
 //!
@@ -26,11 +30,13 @@
 pub mod barn;
 pub mod building;
 mod cells;
+pub mod crowd;
 pub mod generate;
 pub mod grid;
 pub mod kind;
 pub mod maze;
 pub mod movingai;
+pub mod steersuite;
 pub mod text;
 
 pub use kind::WorldKind;

@@ -6,6 +6,8 @@
 //! Invariant: a scenario that passed [`Scenario::validate`] has finite coordinates, at least
 //! one task, and every start and goal lies outside every obstacle grown by the agent radius.
 
+pub mod crowd;
+
 use glam::DVec2;
 
 use crate::geom::Shape;
@@ -101,6 +103,9 @@ pub struct Scenario {
     pub terrain: Terrain,
     /// The footstep planner's parameters for the characters of this map (seed 002 §4.2).
     pub footsteps: crate::footstep::FootstepParams,
+    /// The crowd, when the agents of this world run together as one episode (`None`: each
+    /// task is an episode of its own). Its tasks are [`crowd::Crowd::tasks`] ([`Scenario::set_crowd`]).
+    pub crowd: Option<crowd::Crowd>,
 }
 
 /// Speed at which a BARN reference path is walked for the challenge's optimal time, m/s.
@@ -139,7 +144,16 @@ impl Scenario {
             reference: None,
             terrain: Terrain::Flat,
             footsteps: Default::default(),
+            crowd: None,
         }
+    }
+
+    /// Makes the scenario a crowd: its tasks become the crowd's ([`crowd::Crowd::tasks`], one
+    /// per agent) and its agent radius the smallest of the crowd's radii.
+    pub fn set_crowd(&mut self, crowd: crowd::Crowd) {
+        self.tasks = crowd.tasks();
+        self.agent_radius = crowd.smallest_radius().unwrap_or(self.agent_radius);
+        self.crowd = Some(crowd);
     }
 
     /// The world the tasks run in, its obstacles sorted into three bands ([`Band`]):
@@ -160,6 +174,9 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), String> {
         if !(self.agent_radius.is_finite() && self.agent_radius > 0.0) {
             return Err(format!("agent radius must be a positive number, found {}", self.agent_radius));
+        }
+        if let Some(c) = &self.crowd {
+            c.validate(&self.obstacles).map_err(|m| format!("crowd: {m}"))?;
         }
         if self.tasks.is_empty() {
             return Err("no task: give a start and a goal".into());

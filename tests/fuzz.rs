@@ -1,5 +1,5 @@
 //! Fuzzing every front door that reads user input: FLL, rules, Rhai map and rule scripts, text
-//! worlds, MovingAI `.map` and `.scen`, BVH and policy files. Each target feeds its parser
+//! worlds, SteerSuite test cases, MovingAI `.map` and `.scen`, BVH and policy files. Each target feeds its parser
 //! mutated seeds from `tests/fuzz_corpus/<target>/` (bytes flipped, inserted, deleted,
 //! repeated, spliced from another seed, numbers replaced by NaN, infinities, huge or tiny
 //! values, deep brackets) and arbitrary bytes, and asserts that every input gives a valid result
@@ -404,6 +404,22 @@ fn fuzz_text_worlds() {
             Ok(true)
         }
         Err(e) => located(&e, "w.txt").map(|_| false),
+    });
+}
+
+/// SteerSuite test cases: a case read is a crowd that the text format keeps; anything else is
+/// a located error.
+#[test]
+fn fuzz_steersuite_cases() {
+    fuzz("steersuite", |b| match strider::maps::steersuite::parse(&text_of(b), "c.xml", 7) {
+        Ok(s) => {
+            let written = text::write(&s);
+            let back = text::parse(&written, "written.txt");
+            prop_assert!(back.is_ok(), "a valid case does not read back: {:?}\n{written}", back.err());
+            prop_assert_eq!(&back.unwrap().crowd, &s.crowd);
+            Ok(true)
+        }
+        Err(e) => located(&e, "c.xml").map(|_| false),
     });
 }
 

@@ -364,18 +364,37 @@ fn csv_cell(f: &Field) -> String {
 /// `strider gen` options.
 #[derive(Debug, Args)]
 pub struct GenArgs {
+    /// A map to print resolved as a text world, every random draw made with `--seed` (a
+    /// SteerSuite `.xml` case, a `.txt` or `.rhai` world, `random:KIND`), instead of `--kind`.
+    #[arg(conflicts_with = "kind", required_unless_present = "kind")]
+    pub map: Option<String>,
     /// World kind: sparse, semi, cluttered, rooms, maze or grid (`--density` is an alias).
     #[arg(long, alias = "density")]
-    pub kind: String,
+    pub kind: Option<String>,
     /// Seed of the world.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
 
-/// `strider gen`: prints a seeded random world in the plain text format.
+/// `strider gen`: prints a seeded random world, or a map with its random draws made, in the
+/// plain text format. A crowd whose agents start overlapping is printed with a note on stderr.
 pub fn gen_world(args: GenArgs) -> Outcome {
-    let k: WorldKind = args.kind.parse().map_err(|e| anyhow!("{e}"))?;
-    let scenario = kind::generate(k, args.seed);
+    let scenario = match (&args.map, &args.kind) {
+        (Some(map), _) if map.ends_with(".xml") => {
+            let text = files::read_text(Path::new(map))?;
+            crate::maps::steersuite::parse(&text, map, args.seed)?
+        }
+        (Some(map), _) => crate::load::load_scenario(&MapSpec::parse(Some(map))?, args.seed).logged()?,
+        (None, kind) => {
+            let k: WorldKind = kind.as_deref().unwrap_or_default().parse().map_err(|e| anyhow!("{e}"))?;
+            kind::generate(k, args.seed)
+        }
+    };
+    if let Some(c) = &scenario.crowd {
+        for (i, j) in c.overlapping_starts(0.0) {
+            eprintln!("note: agents {} and {} start overlapping", i + 1, j + 1);
+        }
+    }
     files::write_stdout(format_args!("{}", text::write(&scenario)))?;
     Ok(())
 }

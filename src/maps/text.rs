@@ -20,6 +20,7 @@
 //! | `footsteps KEY VALUE …` | the footstep planner's parameters of the map's characters (any of [`FootstepParams::KEYS`](crate::footstep::FootstepParams::KEYS)), checked as a whole |
 //! | `ref_path_length L` | BARN extra: reference path length (m), the scenario's [`Reference`] |
 //! | `optimal_time_at_2mps T` | BARN extra: optimal time at 2 m/s (s), kept in [`TextExtras`] |
+//! | `crowd [stay]`, `agent …`, `seek …`, `flee …`, … | a crowd: many agents with goal sequences in one episode ([`crowd`]) |
 //!
 //! Terrain lines are painted in order over flat ground at height 0: where several cover a point,
 //! the last decides (a `hole` then `platform … cyl` stones on it make stepping stones). Obstacles
@@ -37,6 +38,8 @@
 //! parser checks that no start or goal lies within the agent radius of an obstacle and then runs
 //! [`Scenario::validate`]. [`write`] prints a scenario in this format with shortest
 //! round-tripping numbers, so [`parse`] gives back the same obstacles and tasks.
+
+mod crowd;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -107,7 +110,10 @@ pub fn write(scenario: &Scenario) -> String {
             f.leg.foot_length_m()
         );
     }
-    for t in &scenario.tasks {
+    if let Some(c) = &scenario.crowd {
+        crowd::write(&mut out, c);
+    }
+    for t in scenario.tasks.iter().filter(|_| scenario.crowd.is_none()) {
         let s = t.start;
         let _ = writeln!(out, "start {} {} {}", s.position.x, s.position.y, s.yaw);
         let _ = writeln!(out, "goal {} {} {}", t.goal.x, t.goal.y, t.goal_radius);
@@ -196,6 +202,7 @@ struct Parser<'f> {
     z: (f64, f64),
     features: Vec<TerrainFeature>,
     budget: WorldBudget,
+    crowd: crowd::CrowdLines,
 }
 
 impl<'f> Parser<'f> {
@@ -214,6 +221,7 @@ impl<'f> Parser<'f> {
             z: DEFAULT_Z,
             features: Vec::new(),
             budget: WorldBudget::default(),
+            crowd: Default::default(),
         }
     }
 
@@ -231,6 +239,9 @@ impl<'f> Parser<'f> {
         self.scenario.terrain = Terrain::from_features(std::mem::take(&mut self.features));
         if let Some(p) = self.pending.front() {
             return Err(self.err(p.line, p.col, "this `start` has no matching `goal` line"));
+        }
+        if self.crowd.is_crowd() {
+            self.make_crowd()?;
         }
         if self.scenario.tasks.is_empty() {
             return Err(self.err(0, 0, "no task: the world needs a `start x y` line followed by a `goal x y` line"));
@@ -288,7 +299,37 @@ impl<'f> Parser<'f> {
         }
     }
 
+    /// Turns a crowd world's agents and `start`/`goal` pairs into its crowd, and the scenario's
+    /// tasks into the crowd's (their sources the agents').
+    fn make_crowd(&mut self) -> Result<(), SourceError> {
+        let tasks: Vec<_> = self
+            .scenario
+            .tasks
+            .iter()
+            .zip(&self.task_sources)
+            .map(|(t, s)| {
+                (*t, crowd::AgentSource { start: (s.start_line, s.start_col), goal: (s.goal_line, s.goal_col) })
+            })
+            .collect();
+        let lines = std::mem::take(&mut self.crowd);
+        let (c, sources) = lines.finish(self.file, &tasks, self.scenario.agent_radius)?;
+        self.scenario.set_crowd(c);
+        self.task_sources = sources
+            .into_iter()
+            .map(|s| TaskSource {
+                start_line: s.start.0,
+                start_col: s.start.1,
+                goal_line: s.goal.0,
+                goal_col: s.goal.1,
+            })
+            .collect();
+        Ok(())
+    }
+
     fn item(&mut self, line: usize, kw: Tok<'_>, args: &[Tok<'_>], end_col: usize) -> Result<(), SourceError> {
+        if crowd::CrowdLines::handles(kw.text) {
+            return self.crowd.item(self.file, line, kw, args, end_col);
+        }
         match kw.text {
             "start" => {
                 let v = self.numbers(line, kw, args, end_col, (2, 3), "start x y [yaw_rad]")?;
@@ -306,6 +347,7 @@ impl<'f> Parser<'f> {
                     task.goal_radius = self.positive(line, args[2], r, "goal radius")?;
                 }
                 self.scenario.tasks.push(task);
+                self.crowd.task_added(self.scenario.tasks.len() - 1);
                 self.task_sources.push(TaskSource {
                     start_line: start.line,
                     start_col: start.col,
@@ -447,7 +489,8 @@ impl<'f> Parser<'f> {
                     kw.col,
                     format!(
                         "unknown item `{other}` (expected start, goal, time_limit, agent_radius, cyl, box, convex, \
-                         poly, z_extent, platform, hole, slope, stairs, ref_path_length or optimal_time_at_2mps)"
+                         poly, z_extent, platform, hole, slope, stairs, ref_path_length, optimal_time_at_2mps, crowd, \
+                         agent, seek, flee, seek_agent, flee_agent, seek_region, flow, flow_dynamic or idle)"
                     ),
                 ));
             }
@@ -565,6 +608,7 @@ impl<'f> Parser<'f> {
         self.scenario.validate().map_err(|message| {
             let task = message
                 .strip_prefix("task ")
+                .or_else(|| message.strip_prefix("crowd: agent "))
                 .and_then(|rest| rest.split(':').next())
                 .and_then(|n| n.parse::<usize>().ok())
                 .and_then(|n| n.checked_sub(1))

@@ -23,6 +23,22 @@
 //!                max_slope_deg: 30.0, foot_length_m: 0.24 });
 //! m
 //! ```
+//! A crowd (all agents in one episode; see [`crate::scenario::crowd`] for the goals' meaning):
+//! ```rhai
+//! let m = world("crossing");
+//! m.crowd();                              // or m.crowd_stay(): arrived agents stay
+//! m.agent(-5.0, 0.0, 0.0, 0.3, 0.0);      // x, y (m), heading (deg), radius (m), speed (m/s)
+//! m.seek(5.0, 0.0, 1.3, 60.0);            // x, y, desired speed (m/s), duration (s)
+//! m.agent(0.0, -5.0, 90.0, 0.3, 0.0, "bob");  // with a name
+//! m.seek_agent(1, 1.3, 20.0);             // agent number (from 1), speed, duration
+//! m.flee(0.0, 0.0, 1.0, 5.0);             // also flee_agent(n, …), flow(dx, dy, …),
+//! m.seek_region(6.0, 6.0, 5.0, 5.0, 7.0, 7.0, 1.0, 30.0);  // flow_dynamic("boids", …), idle(speed, duration)
+//! m
+//! ```
+//! A world with `crowd()` or an agent is a crowd; its start/goal pairs are agents too, as in
+//! the text format ([`CrowdAgent::from_task`]; a goal's radius is unused: an agent arrives
+//! within its own).
+//!
 //! Obstacles at most 0.45 m high (see `heights`) are ground to step onto or over.
 //! Each `start` opens a task; the next `goal` closes it. Angles are degrees. The script ends
 //! with the world; the core validates it.
@@ -35,6 +51,7 @@ use rhai::{Array, Dynamic, EvalAltResult};
 
 use crate::diagnostic::SourceError;
 use crate::scenario::{Scenario, WorldBudget};
+use crate::scenario::crowd::{Crowd, CrowdAgent, FlowKind, Goal, GoalKind};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain};
@@ -49,6 +66,10 @@ struct MapState {
     time_limit_s: Option<f64>,
     features: Vec<TerrainFeature>,
     budget: WorldBudget,
+    /// `crowd()` (`Some(stay)`) was called.
+    crowd: Option<bool>,
+    /// The crowd's agents in order: given by `agent`, or the index of a start/goal task.
+    agents: Vec<Result<CrowdAgent, usize>>,
 }
 
 /// A world under construction in a script.
@@ -226,9 +247,12 @@ pub fn register(engine: &mut rhai::Engine) {
         }
         if let Some(s) = st.scenario.as_mut() {
             s.tasks.push(task);
+            let k = s.tasks.len() - 1;
+            st.agents.push(Err(k));
         }
         Ok(m.clone())
     });
+    register_crowd(engine);
     engine.register_fn(
         "box",
         |m: &mut MapHandle, x: Dynamic, y: Dynamic, w: Dynamic, h: Dynamic, yaw_deg: Dynamic| -> Res<MapHandle> {
@@ -251,6 +275,89 @@ pub fn register(engine: &mut rhai::Engine) {
     });
 }
 
+/// Adds a goal to the last agent given.
+fn push_goal(m: &MapHandle, kind: GoalKind, speed: &Dynamic, duration: &Dynamic) -> Res<MapHandle> {
+    let goal = Goal { kind, desired_speed_mps: num(speed, "desired speed")?, duration_s: num(duration, "duration")? };
+    let mut st = m.0.borrow_mut();
+    match st.agents.iter_mut().rev().find_map(|a| a.as_mut().ok()) {
+        Some(agent) => agent.goals.push(goal),
+        None => return Err(format!("`{}` is a goal of an agent: call agent(…) first", goal.kind.keyword()).into()),
+    }
+    drop(st);
+    Ok(m.clone())
+}
+
+/// An agent number from 1 as an index.
+fn agent_index(n: rhai::INT) -> Res<usize> {
+    usize::try_from(n)
+        .ok()
+        .filter(|&n| n >= 1)
+        .map(|n| n - 1)
+        .ok_or_else(|| format!("agent numbers start at 1, found {n}").into())
+}
+
+/// Registers the crowd functions (see the [module docs](self)).
+fn register_crowd(engine: &mut rhai::Engine) {
+    type D = Dynamic;
+    engine.register_fn("crowd", |m: &mut MapHandle| {
+        m.0.borrow_mut().crowd = Some(false);
+        m.clone()
+    });
+    engine.register_fn("crowd_stay", |m: &mut MapHandle| {
+        m.0.borrow_mut().crowd = Some(true);
+        m.clone()
+    });
+    fn agent(m: &mut MapHandle, x: D, y: D, heading: D, radius: D, speed: D, name: &str) -> Res<MapHandle> {
+        let a = CrowdAgent {
+            name: name.to_string(),
+            start: Pose {
+                position: DVec2::new(num(&x, "x")?, num(&y, "y")?),
+                yaw: num(&heading, "heading")?.to_radians(),
+            },
+            radius_m: num(&radius, "radius")?,
+            speed_mps: num(&speed, "speed")?,
+            goals: Vec::new(),
+        };
+        m.0.borrow_mut().agents.push(Ok(a));
+        Ok(m.clone())
+    }
+    engine.register_fn("agent", |m: &mut MapHandle, x: D, y: D, h: D, r: D, v: D| agent(m, x, y, h, r, v, ""));
+    engine.register_fn("agent", agent);
+    engine.register_fn("seek", |m: &mut MapHandle, x: D, y: D, v: D, t: D| -> Res<MapHandle> {
+        push_goal(m, GoalKind::SeekPoint(DVec2::new(num(&x, "x")?, num(&y, "y")?)), &v, &t)
+    });
+    engine.register_fn("flee", |m: &mut MapHandle, x: D, y: D, v: D, t: D| -> Res<MapHandle> {
+        push_goal(m, GoalKind::FleePoint(DVec2::new(num(&x, "x")?, num(&y, "y")?)), &v, &t)
+    });
+    engine.register_fn("flow", |m: &mut MapHandle, x: D, y: D, v: D, t: D| -> Res<MapHandle> {
+        push_goal(m, GoalKind::Flow(DVec2::new(num(&x, "dx")?, num(&y, "dy")?)), &v, &t)
+    });
+    engine.register_fn("seek_agent", |m: &mut MapHandle, n: rhai::INT, v: D, t: D| -> Res<MapHandle> {
+        push_goal(m, GoalKind::SeekAgent(agent_index(n)?), &v, &t)
+    });
+    engine.register_fn("flee_agent", |m: &mut MapHandle, n: rhai::INT, v: D, t: D| -> Res<MapHandle> {
+        push_goal(m, GoalKind::FleeAgent(agent_index(n)?), &v, &t)
+    });
+    engine.register_fn(
+        "seek_region",
+        |m: &mut MapHandle, x: D, y: D, x0: D, y0: D, x1: D, y1: D, v: D, t: D| -> Res<MapHandle> {
+            let kind = GoalKind::SeekRegion {
+                target: DVec2::new(num(&x, "x")?, num(&y, "y")?),
+                min: DVec2::new(num(&x0, "xmin")?, num(&y0, "ymin")?),
+                max: DVec2::new(num(&x1, "xmax")?, num(&y1, "ymax")?),
+            };
+            push_goal(m, kind, &v, &t)
+        },
+    );
+    engine.register_fn("flow_dynamic", |m: &mut MapHandle, kind: &str, v: D, t: D| -> Res<MapHandle> {
+        let k = FlowKind::parse(kind).ok_or_else(|| -> Box<EvalAltResult> {
+            format!("flow kind `{kind}`: expected follow_crowd, boids, advect or other").into()
+        })?;
+        push_goal(m, GoalKind::FlowDynamic(k), &v, &t)
+    });
+    engine.register_fn("idle", |m: &mut MapHandle, v: D, t: D| push_goal(m, GoalKind::Idle, &v, &t));
+}
+
 impl MapHandle {
     /// The validated scenario of a finished map script; errors name `file`.
     pub fn scenario(&self, file: &str) -> Result<Scenario, SourceError> {
@@ -260,7 +367,67 @@ impl MapHandle {
         }
         let mut scenario = st.scenario.take().unwrap_or_else(|| Scenario::new(file));
         scenario.terrain = Terrain::from_features(std::mem::take(&mut st.features));
+        let agents = std::mem::take(&mut st.agents);
+        if st.crowd.is_some() || agents.iter().any(Result::is_ok) {
+            let agents = agents
+                .into_iter()
+                .map(|a| a.unwrap_or_else(|k| CrowdAgent::from_task(&scenario.tasks[k], scenario.agent_radius)))
+                .collect();
+            scenario.set_crowd(Crowd { agents, stay_on_arrival: st.crowd == Some(true) });
+        }
         scenario.validate().map_err(|m| SourceError::new(file, 0, 0, m))?;
         Ok(scenario)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::maps::text;
+    use crate::scenario::crowd::{FlowKind, GoalKind};
+    use crate::script::{Limits, ScriptLog, load_scenario};
+    use glam::DVec2;
+
+    #[test]
+    fn a_script_builds_a_crowd_that_the_text_format_keeps() {
+        let src = r#"
+            let m = world("crowd");
+            m.agent_radius(0.4);
+            m.crowd_stay();
+            m.agent(-5.0, 0.0, 90.0, 0.3, 0.5, "alice");
+            m.seek(5.0, 0.0, 1.3, 60.0);
+            m.seek_region(6.0, 6.0, 5.0, 5.0, 7.0, 7.0, 1.0, 30.0);
+            m.idle(0, 2);
+            m.start(0.0, -5.0, 0.0);
+            m.goal(0.0, 5.0, 0.5);
+            m.agent(3.0, 3.0, 0.0, 0.25, 0.0);
+            m.seek_agent(1, 1.5, 20.0);
+            m.flee_agent(2, 1.0, 5.0);
+            m.flee(0.0, 0.0, 1.0, 5.0);
+            m.flow(1.0, 0.0, 1.0, 5.0);
+            m.flow_dynamic("FOLLOW_CROWD", 1.0, 5.0);
+            m
+        "#;
+        let s = load_scenario(src, "c.rhai", Limits::default(), &ScriptLog::new()).unwrap();
+        let c = s.crowd.as_ref().unwrap();
+        assert!(c.stay_on_arrival);
+        assert_eq!(c.agents.len(), 3);
+        assert_eq!(c.agents[0].name, "alice");
+        assert!((c.agents[0].start.yaw - std::f64::consts::FRAC_PI_2).abs() < 1e-12, "degrees");
+        assert_eq!((c.agents[1].radius_m, c.agents[1].goals[0].kind), (0.4, GoalKind::SeekPoint(DVec2::new(0.0, 5.0))));
+        let kinds: Vec<_> = c.agents[2].goals.iter().map(|g| g.kind).collect();
+        assert_eq!(kinds[..2], [GoalKind::SeekAgent(0), GoalKind::FleeAgent(1)]);
+        assert_eq!(kinds[4], GoalKind::FlowDynamic(FlowKind::FollowCrowd));
+        assert_eq!(s.tasks.len(), 3);
+        let again = text::parse(&text::write(&s), "c.txt").unwrap();
+        assert_eq!(again.crowd, s.crowd);
+        // Goals need an agent before them; agent numbers start at 1; the crowd is validated.
+        for (bad, says) in [
+            ("let m = world(\"w\"); m.seek(1, 1, 1, 1); m", "agent(…) first"),
+            ("let m = world(\"w\"); m.agent(0, 0, 0, 0.3, 0); m.seek_agent(0, 1, 1); m", "start at 1"),
+            ("let m = world(\"w\"); m.agent(0, 0, 0, 0.3, 0); m", "no goal"),
+        ] {
+            let e = load_scenario(bad, "b.rhai", Limits::default(), &ScriptLog::new()).unwrap_err();
+            assert!(e.message.contains(says), "{e}");
+        }
     }
 }
