@@ -307,9 +307,16 @@ fn dense_reference(world: &World, r: f64, start: DVec2, goal: DVec2) -> Option<f
     let mut at: Vec<DVec2> = vec![start, goal];
     let mut on: Vec<Option<(usize, i32, f64)>> = vec![None, None];
     let mut edges: Vec<Vec<(usize, f64)>> = vec![Vec::new(), Vec::new()];
-    let node = |at: &mut Vec<DVec2>, on: &mut Vec<Option<(usize, i32, f64)>>, e: &mut Vec<Vec<(usize, f64)>>, c: usize, s: i32, angle: f64| {
+    let node = |at: &mut Vec<DVec2>,
+                on: &mut Vec<Option<(usize, i32, f64)>>,
+                e: &mut Vec<Vec<(usize, f64)>>,
+                c: usize,
+                s: i32,
+                angle: f64| {
         let angle = angle.rem_euclid(TAU);
-        if let Some(k) = on.iter().position(|o| o.is_some_and(|(c2, s2, a2)| c2 == c && s2 == s && (a2 - angle).abs() < 1e-12)) {
+        if let Some(k) =
+            on.iter().position(|o| o.is_some_and(|(c2, s2, a2)| c2 == c && s2 == s && (a2 - angle).abs() < 1e-12))
+        {
             return k;
         }
         at.push(circles[c].0 + DVec2::from_angle(angle) * circles[c].1);
@@ -377,8 +384,9 @@ fn dense_reference(world: &World, r: f64, start: DVec2, goal: DVec2) -> Option<f
         if let Some((b, sweep)) = next {
             let (center, radius) = circles[c];
             let steps = (sweep / 1e-3).ceil().max(1.0) as usize;
-            let along = (0..=steps)
-                .all(|i| free(center + DVec2::from_angle(angle + f64::from(s) * sweep * i as f64 / steps as f64) * radius));
+            let along = (0..=steps).all(|i| {
+                free(center + DVec2::from_angle(angle + f64::from(s) * sweep * i as f64 / steps as f64) * radius)
+            });
             if along {
                 edges[a].push((b, radius * sweep));
             }
@@ -388,7 +396,8 @@ fn dense_reference(world: &World, r: f64, start: DVec2, goal: DVec2) -> Option<f
     let mut done = vec![false; at.len()];
     dist[0] = 0.0;
     loop {
-        let u = (0..at.len()).filter(|&i| !done[i] && dist[i].is_finite()).min_by(|&a, &b| dist[a].total_cmp(&dist[b]))?;
+        let u =
+            (0..at.len()).filter(|&i| !done[i] && dist[i].is_finite()).min_by(|&a, &b| dist[a].total_cmp(&dist[b]))?;
         if u == 1 {
             return Some(dist[1]);
         }
