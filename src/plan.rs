@@ -55,7 +55,7 @@ use glam::DVec2;
 use crate::world::World;
 use clearance::Clearance;
 use rim::{Spot, Turn};
-use visibility::{Graph, Leg, RimId};
+use visibility::{Graph, Leg, Legs, RimId};
 
 /// A shortest path: straight legs joined by arcs along the rims it bends round.
 #[derive(Debug, Clone, PartialEq)]
@@ -172,6 +172,8 @@ struct State {
     prev: usize,
     /// The leg.
     leg: Leg,
+    /// The bending whose legs it is one of (`NONE`: the start's, already known clear).
+    of: usize,
     closed: bool,
 }
 
@@ -182,6 +184,8 @@ const NONE: usize = usize::MAX;
 /// already expanded there (where on the rim, and the length of the way there).
 #[derive(Debug)]
 struct Bending {
+    rim: RimId,
+    turn: Turn,
     base: usize,
     done: Vec<(Spot, f64)>,
 }
@@ -246,16 +250,16 @@ impl Planner {
         let mut states: Vec<State> = graph
             .legs_from(clearance, start, cull)
             .into_iter()
-            .map(|leg| State { g: leg.length, prev: NONE, leg, closed: false })
+            .map(|leg| State { g: leg.length, prev: NONE, leg, of: NONE, closed: false })
             .collect();
         let mut heap: BinaryHeap<Entry> =
             states.iter().enumerate().map(|(i, s)| Entry { cost: s.g + s.leg.at.distance(goal), node: i }).collect();
         let mut slot = vec![u32::MAX; 2 * graph.rim_count()];
         let mut bendings: Vec<Bending> = Vec::new();
         // Without culling, legs found afresh for this search alone.
-        let fresh: Vec<OnceCell<Box<[Leg]>>> =
+        let fresh: Vec<OnceCell<Legs>> =
             (0..if cull { 0 } else { 2 * graph.rim_count() }).map(|_| OnceCell::new()).collect();
-        let legs_of = |rim: RimId, turn: Turn| -> &[Leg] {
+        let legs_of = |rim: RimId, turn: Turn| -> &Legs {
             match fresh.get(2 * rim as usize + turn as usize) {
                 Some(cell) => cell.get_or_init(|| graph.find_legs(clearance, rim, turn, false)),
                 None => graph.legs(clearance, rim, turn),
@@ -272,18 +276,26 @@ impl Planner {
                 continue;
             }
             states[node].closed = true;
+            // A leg's clearance is tested when a search first arrives by it.
+            if let Some(b) = bendings.get(state.of)
+                && !graph.leg_clear(clearance, b.rim, legs_of(b.rim, b.turn), node - b.base)
+            {
+                continue;
+            }
             let (rim, turn) = (state.leg.to, state.leg.turn);
             let free = graph.free(clearance, rim);
             let Some(here) = free.locate(state.leg.arrive) else { continue };
             let radius = graph.circle(clearance, rim).radius;
             let key = 2 * rim as usize + turn as usize;
             if slot[key] == u32::MAX {
-                slot[key] = bendings.len() as u32;
-                bendings.push(Bending { base: states.len(), done: Vec::new() });
-                states.extend(legs_of(rim, turn).iter().map(|&leg| State {
+                let of = bendings.len();
+                slot[key] = of as u32;
+                bendings.push(Bending { rim, turn, base: states.len(), done: Vec::new() });
+                states.extend(legs_of(rim, turn).list().iter().map(|&leg| State {
                     g: f64::INFINITY,
                     prev: NONE,
                     leg,
+                    of,
                     closed: false,
                 }));
             }
@@ -298,7 +310,7 @@ impl Planner {
             }
             bending.done.push((here, state.g));
             let base = bending.base;
-            for (i, leg) in legs_of(rim, turn).iter().enumerate() {
+            for (i, leg) in legs_of(rim, turn).list().iter().enumerate() {
                 let Some(sweep) = free.locate(leg.leave).and_then(|out| free.sweep(here, out, turn)) else { continue };
                 let g = state.g + radius * sweep + leg.length;
                 let next = &mut states[base + i];
@@ -432,9 +444,14 @@ mod tests {
             let planner = Planner::new(&world, radius).unwrap();
             for k in 0..planner.rim_count() as RimId {
                 for turn in Turn::BOTH {
-                    let culled = planner.graph.find_legs(&planner.clearance, k, turn, true);
-                    let all = planner.graph.find_legs(&planner.clearance, k, turn, false);
-                    assert_eq!(culled, all, "round {round}, rim {k}, {turn:?}");
+                    let clear = |cull| {
+                        let legs = planner.graph.find_legs(&planner.clearance, k, turn, cull);
+                        (0..legs.list().len())
+                            .filter(|&i| planner.graph.leg_clear(&planner.clearance, k, &legs, i))
+                            .map(|i| legs.list()[i])
+                            .collect::<Vec<Leg>>()
+                    };
+                    assert_eq!(clear(true), clear(false), "round {round}, rim {k}, {turn:?}");
                 }
             }
             for _ in 0..6 {

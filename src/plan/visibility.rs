@@ -26,6 +26,7 @@
 use std::cell::RefCell;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::DVec2;
 
@@ -51,6 +52,53 @@ pub(crate) struct Leg {
     pub(crate) at: DVec2,
     /// Length, metres.
     pub(crate) length: f64,
+}
+
+/// The legs leaving one rim one way, by rim met and turn there: every leg that touches both
+/// rims on free arcs and is not hidden; whether it is also clear of the other grown obstacles
+/// is tested the first time a search asks ([`Legs::is_clear`]) and kept.
+#[derive(Debug, Default)]
+pub(crate) struct Legs {
+    list: Box<[Leg]>,
+    /// Per leg: [`UNTESTED`], [`CLEAR`] or [`BLOCKED`].
+    clear: Box<[AtomicU8]>,
+}
+
+/// States of [`Legs::clear`].
+const UNTESTED: u8 = 0;
+const CLEAR: u8 = 1;
+const BLOCKED: u8 = 2;
+
+impl Legs {
+    fn new(list: Vec<Leg>) -> Legs {
+        Legs { clear: list.iter().map(|_| AtomicU8::new(UNTESTED)).collect(), list: list.into() }
+    }
+
+    /// The legs.
+    pub(crate) fn list(&self) -> &[Leg] {
+        &self.list
+    }
+
+    /// Whether leg `i` is clear, `test` telling the first time. Every thread that asks gets
+    /// the same answer (the test is a function of the leg alone).
+    fn is_clear(&self, i: usize, test: impl FnOnce() -> bool) -> bool {
+        match self.clear[i].load(Ordering::Relaxed) {
+            CLEAR => true,
+            BLOCKED => false,
+            _ => {
+                let clear = test();
+                self.clear[i].store(if clear { CLEAR } else { BLOCKED }, Ordering::Relaxed);
+                clear
+            }
+        }
+    }
+}
+
+impl Clone for Legs {
+    fn clone(&self) -> Legs {
+        let clear = self.clear.iter().map(|c| AtomicU8::new(c.load(Ordering::Relaxed))).collect();
+        Legs { list: self.list.clone(), clear }
+    }
 }
 
 /// The normals a rim's boundary may have: all, or those between two unit normals (the
@@ -98,7 +146,7 @@ pub(crate) struct Graph {
     owner: Vec<u32>,
     free: Vec<OnceLock<FreeArcs>>,
     /// The legs leaving each rim bending left round it, then those bending right (`2k + turn`).
-    legs: Vec<OnceLock<Box<[Leg]>>>,
+    legs: Vec<OnceLock<Legs>>,
     /// Rounding slack on how far a rim's points lie outside its obstacle's indexed box, metres.
     stick_out: f64,
     /// How far a point may lie inside a rim and still count as on it, metres.
@@ -189,18 +237,18 @@ impl Graph {
     }
 
     /// The legs leaving rim `k` bending `turn` round it, found once (always with hidden
-    /// obstacles skipped), by rim met and turn there.
-    pub(crate) fn legs(&self, clearance: &Clearance, k: RimId, turn: Turn) -> &[Leg] {
+    /// obstacles skipped).
+    pub(crate) fn legs(&self, clearance: &Clearance, k: RimId, turn: Turn) -> &Legs {
         self.legs[2 * k as usize + turn as usize].get_or_init(|| self.find_legs(clearance, k, turn, true))
     }
 
-    /// The legs leaving rim `k` bending `turn` round it, found now, by rim met and turn there;
-    /// `cull`: skip obstacles hidden behind nearer ones.
-    pub(crate) fn find_legs(&self, clearance: &Clearance, k: RimId, turn: Turn, cull: bool) -> Box<[Leg]> {
+    /// The legs leaving rim `k` bending `turn` round it, found now; `cull`: skip obstacles
+    /// hidden behind nearer ones.
+    pub(crate) fn find_legs(&self, clearance: &Clearance, k: RimId, turn: Turn, cull: bool) -> Legs {
         let source = self.view(clearance, self.owner[k as usize] as usize, k);
         let own = self.free(clearance, k);
         if own.is_empty() {
-            return Box::new([]);
+            return Legs::default();
         }
         let mut list = Vec::new();
         self.walk(clearance, source.circle, turn, Some(own), cull, |target, hidden| {
@@ -209,22 +257,28 @@ impl Graph {
             }
             for tb in Turn::BOTH {
                 let Some(t) = tangent(source.circle, turn, target.circle, tb, self.touch) else { continue };
-                if !(source.cone.holds(t.leave) && target.cone.holds(t.arrive)) {
+                if !(source.cone.holds(t.leave) && target.cone.holds(t.arrive)) || hidden(t.dir) {
                     continue;
                 }
                 let (leave, arrive) = (angle_of(t.leave), angle_of(t.arrive));
-                if own.locate(leave).is_none()
-                    || self.free(clearance, target.id).locate(arrive).is_none()
-                    || hidden(t.dir)
-                    || !clearance.segment_clear_except(t.from, t.to, [source.owner, target.owner])
-                {
-                    continue;
+                if own.locate(leave).is_some() && self.free(clearance, target.id).locate(arrive).is_some() {
+                    list.push(Leg { to: target.id, turn: tb, leave, arrive, at: t.to, length: t.length });
                 }
-                list.push(Leg { to: target.id, turn: tb, leave, arrive, at: t.to, length: t.length });
             }
         });
         list.sort_by(|a, b| a.to.cmp(&b.to).then(a.turn.cmp(&b.turn)));
-        list.into()
+        Legs::new(list)
+    }
+
+    /// Whether leg `i` of `legs`, leaving rim `k`, is clear of the grown obstacles other than
+    /// the two it touches (which it only touches: it leaves and meets them along a tangent).
+    pub(crate) fn leg_clear(&self, clearance: &Clearance, k: RimId, legs: &Legs, i: usize) -> bool {
+        legs.is_clear(i, || {
+            let leg = &legs.list[i];
+            let from = self.circle(clearance, k).at(leg.leave);
+            let owners = [self.owner[k as usize] as usize, self.owner[leg.to as usize] as usize];
+            clearance.segment_clear_except(from, leg.at, owners)
+        })
     }
 
     /// The legs from the free point `p` to every rim it sees, bending either way round it.
