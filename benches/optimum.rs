@@ -30,12 +30,12 @@ fn map() -> Scenario {
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = move || {
         state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 33) % 5 == 0
+        (state >> 33).is_multiple_of(5)
     };
     let mut text = format!("type octile\nheight {SIDE}\nwidth {SIDE}\nmap\n");
     for y in 0..SIDE {
         for x in 0..SIDE {
-            let corner = (x < 3 || x >= SIDE - 3) && (y < 3 || y >= SIDE - 3);
+            let corner = !(3..SIDE - 3).contains(&x) && !(3..SIDE - 3).contains(&y);
             text.push(if next() && !corner { '@' } else { '.' });
         }
         text.push('\n');
