@@ -223,11 +223,12 @@ pub fn run(args: RunArgs) -> Outcome {
     // on), on stderr; never on stdout, never when stderr is not a terminal.
     let bar = io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(count as u64);
+        // One episode has no rate to tell its end by.
+        let eta = if count > 1 { ", eta {eta}" } else { "" };
+        let template = format!("{{bar:40}} {{pos}}/{{len}} episodes, {{msg}}, {{elapsed}} elapsed{eta}");
         b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} episodes, {msg}, {elapsed} elapsed, eta {eta}",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(&template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         b.set_message("0 agent-steps");
         b.enable_steady_tick(std::time::Duration::from_millis(250));
