@@ -279,6 +279,29 @@ pub struct Episode {
     pub stepping_s: Option<f64>,
 }
 
+/// Whether a batch works out each episode's reference optimum (`strider run --optimum`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Optimum {
+    /// Work it out: `optimal_length_m` and `path_ratio` are filled in.
+    #[default]
+    On,
+    /// Leave it out: both are missing (`null`).
+    Off,
+}
+
+/// What a batch reports as it runs, from worker threads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// An episode has taken this many more steps: every [`STEPS_PER_REPORT`] steps, and the
+    /// rest when it ends.
+    Steps(u64),
+    /// An episode has finished.
+    Episode,
+}
+
+/// Steps an episode takes between two [`Progress::Steps`] reports.
+pub const STEPS_PER_REPORT: u32 = 1000;
+
 /// Runs task `task_index` of `scenario` (in `world`, the scenario's world) to completion.
 pub fn run_episode(
     scenario: &Scenario,
@@ -289,37 +312,52 @@ pub fn run_episode(
     episode: usize,
     seed: u64,
 ) -> Episode {
-    run_episode_with(scenario, world, None, task_index, controller, params, episode, seed)
+    let task = scenario.tasks[task_index];
+    let optimal = || plan::shortest_path(world, task.start.position, task.goal, params.limits.radius).map(|p| p.length);
+    play(scenario, world, task_index, controller, params, episode, seed, optimal, &|_| {})
 }
 
-/// [`run_episode`] with the optimum taken from `planner` (built for `world` and the agent
-/// radius) when one is given, so that episodes in one world share its visibility graph.
+/// Runs task `task_index` of `scenario` in `world`, with `optimal()` the length of the
+/// shortest path to the goal point (`None`: none, or not worked out), which runs alongside
+/// the steps when a worker thread is free (it depends on neither, so the results do not
+/// depend on the thread count). `stepped` hears of the steps taken as [`Progress::Steps`].
 #[allow(clippy::too_many_arguments)]
-pub fn run_episode_with(
+fn play(
     scenario: &Scenario,
     world: &World,
-    planner: Option<&plan::Planner>,
     task_index: usize,
     controller: &LayeredController,
     params: &StepParameters,
     episode: usize,
     seed: u64,
+    optimal: impl FnOnce() -> Option<f64> + Send,
+    stepped: &(dyn Fn(u64) + Sync),
 ) -> Episode {
     let task = scenario.tasks[task_index];
     // The episode ends on entering the goal circle, so the optimum does too: the shortest path
     // to the goal point, less the goal radius (its last leg is straight and crosses the circle).
-    let optimal = match planner {
-        Some(planner) => planner.shortest_path(task.start.position, task.goal),
-        None => plan::shortest_path(world, task.start.position, task.goal, params.limits.radius),
-    }
-    .map(|p| (p.length - task.goal_radius).max(0.0));
-    let mut sim = Simulation::new(world.clone(), params.clone());
-    sim.add_agent(task, controller);
-    let started = params.stopwatch.as_ref().map(|w| w.0.now_s());
-    while !sim.all_done() {
-        sim.step();
-    }
-    let stepping_s = params.stopwatch.as_ref().zip(started).map(|(w, t0)| (w.0.now_s() - t0).max(0.0));
+    let (optimal, (sim, stepping_s)) = rayon::join(
+        || optimal().map(|length| (length - task.goal_radius).max(0.0)),
+        || {
+            let mut sim = Simulation::new(world.clone(), params.clone());
+            sim.add_agent(task, controller);
+            let started = params.stopwatch.as_ref().map(|w| w.0.now_s());
+            let mut since = 0;
+            while !sim.all_done() {
+                sim.step();
+                since += 1;
+                if since == STEPS_PER_REPORT {
+                    stepped(u64::from(since));
+                    since = 0;
+                }
+            }
+            let stepping_s = params.stopwatch.as_ref().zip(started).map(|(w, t0)| (w.0.now_s() - t0).max(0.0));
+            if since > 0 {
+                stepped(u64::from(since));
+            }
+            (sim, stepping_s)
+        },
+    );
     let agent = &sim.agents[0];
     let m = agent.metrics;
     let reached = agent.outcome == Some(Outcome::Reached);
@@ -431,51 +469,102 @@ pub fn run_batch_each(
     each: &(dyn Fn(&Episode) + Sync),
 ) -> Vec<EpisodeRecord> {
     let episodes: Vec<usize> = (0..count).collect();
-    run_episodes_each(&episodes, job, controller, params, progress, each)
+    let progress = |p: Progress| {
+        if p == Progress::Episode {
+            progress();
+        }
+    };
+    run_episodes_each(&episodes, job, controller, params, Optimum::On, &progress, each)
 }
 
 /// [`run_batch_each`] over some episodes of a batch only (a [`Shard`]'s, say), each numbered
-/// as in the whole batch; records come back in the order of `episodes`.
+/// as in the whole batch, with the reference optimum or without, reporting each episode's
+/// steps and end to `progress`; records come back in the order of `episodes`.
 pub fn run_episodes_each(
     episodes: &[usize],
     job: &(dyn Fn(usize) -> Job + Sync),
     controller: &LayeredController,
     params: &StepParameters,
-    progress: &(dyn Fn() + Sync),
+    optimum: Optimum,
+    progress: &(dyn Fn(Progress) + Sync),
     each: &(dyn Fn(&Episode) + Sync),
 ) -> Vec<EpisodeRecord> {
-    // A scenario with several tasks is usually run once per task: its optimal-path planner is
-    // built once, by the first episode that needs it, and shared.
-    type Slot = Arc<OnceLock<Option<plan::Planner>>>;
-    let shared: Mutex<Vec<(Arc<Scenario>, Slot)>> = Mutex::new(Vec::new());
-    let slot_of = |scenario: &Arc<Scenario>| -> Option<Slot> {
+    // A scenario with several tasks is usually run once per task: its world is built once,
+    // by the first episode that needs it, and so is its optimal-path planner, and every
+    // episode in it shares both (what one episode's search finds of the planner's graph, the
+    // next ones use).
+    let shared: Mutex<Vec<(Arc<Scenario>, Arc<Shared>)>> = Mutex::new(Vec::new());
+    let shared_of = |scenario: &Arc<Scenario>| -> Option<Arc<Shared>> {
         if scenario.tasks.len() < 2 {
             return None;
         }
         let mut list = shared.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((_, slot)) = list.iter().find(|(s, _)| Arc::ptr_eq(s, scenario)) {
-            return Some(slot.clone());
+        if let Some((_, s)) = list.iter().find(|(s, _)| Arc::ptr_eq(s, scenario)) {
+            return Some(s.clone());
         }
-        let slot = Slot::default();
-        list.push((scenario.clone(), slot.clone()));
-        Some(slot)
+        let s = Arc::new(Shared::default());
+        list.push((scenario.clone(), s.clone()));
+        Some(s)
     };
+    let stepped = |n: u64| progress(Progress::Steps(n));
     episodes
         .par_iter()
         .map(|&i| {
             let job = job(i);
-            let world = job.scenario.world();
+            let scenario = &job.scenario;
             let mut p = params.clone();
-            p.limits.radius = job.scenario.agent_radius;
-            let slot = slot_of(&job.scenario);
-            let planner =
-                slot.as_ref().and_then(|s| s.get_or_init(|| plan::Planner::new(&world, p.limits.radius)).as_ref());
-            let e = run_episode_with(&job.scenario, &world, planner, job.task, controller, &p, i, job.seed);
+            p.limits.radius = scenario.agent_radius;
+            let task = scenario.tasks[job.task];
+            let on = optimum == Optimum::On;
+            let e = match shared_of(scenario) {
+                Some(s) => {
+                    let world = s.world.get_or_init(|| scenario.world());
+                    let optimal = || {
+                        let planner = s.planner.get_or_init(|| plan::Planner::new(world, p.limits.radius));
+                        planner.as_ref()?.shortest_path(task.start.position, task.goal).map(|p| p.length)
+                    };
+                    play(
+                        scenario,
+                        world,
+                        job.task,
+                        controller,
+                        &p,
+                        i,
+                        job.seed,
+                        || on.then(optimal).flatten(),
+                        &stepped,
+                    )
+                }
+                None => {
+                    let world = scenario.world();
+                    let optimal = || {
+                        plan::shortest_path(&world, task.start.position, task.goal, p.limits.radius).map(|p| p.length)
+                    };
+                    play(
+                        scenario,
+                        &world,
+                        job.task,
+                        controller,
+                        &p,
+                        i,
+                        job.seed,
+                        || on.then(optimal).flatten(),
+                        &stepped,
+                    )
+                }
+            };
             each(&e);
-            progress();
+            progress(Progress::Episode);
             e.record
         })
         .collect()
+}
+
+/// What the episodes of one scenario share.
+#[derive(Default)]
+struct Shared {
+    world: OnceLock<World>,
+    planner: OnceLock<Option<plan::Planner>>,
 }
 
 /// The `index`-th of `count` interleaved slices of a batch: episodes `index`, `index + count`,

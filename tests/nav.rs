@@ -218,3 +218,129 @@ fn experiment_scripts_compare_rule_sets() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("bad.rhai:2:"), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A MovingAI map of 24 × 24 cells with walls and posts, and six scenario lines across it,
+/// written to a scratch folder; returns the map's path.
+fn movingai_map(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("strider-nav-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut rows = Vec::new();
+    for y in 0..24 {
+        let row: String = (0..24)
+            .map(|x| {
+                let wall = (x == 8 && y < 18) || (x == 16 && y > 5) || (y == 12 && (3..6).contains(&x));
+                let post = x % 5 == 2 && y % 7 == 3;
+                if wall || post { '@' } else { '.' }
+            })
+            .collect();
+        rows.push(row);
+    }
+    let map = dir.join(format!("{name}.map"));
+    std::fs::write(&map, format!("type octile\nheight 24\nwidth 24\nmap\n{}\n", rows.join("\n"))).unwrap();
+    let lines = [(1, 1, 22, 22), (22, 1, 1, 22), (4, 20, 20, 4), (12, 2, 12, 21), (1, 12, 22, 12), (10, 10, 13, 14)];
+    let mut scen = String::from("version 1\n");
+    for (sx, sy, gx, gy) in lines {
+        scen.push_str(&format!("0\t{name}.map\t24\t24\t{sx}\t{sy}\t{gx}\t{gy}\t1\n"));
+    }
+    std::fs::write(dir.join(format!("{name}.map.scen")), scen).unwrap();
+    map
+}
+
+fn json(o: &std::process::Output) -> serde_json::Value {
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&o.stderr)))
+}
+
+#[test]
+fn optimum_off_leaves_the_optimum_and_nothing_else_out() {
+    let map = movingai_map("off");
+    let map = map.to_str().unwrap();
+    let on = strider(&["run", map, "--body", "disc"]);
+    let off = strider(&["run", map, "--body", "disc", "--optimum", "off"]);
+    assert_eq!(on.status.code(), off.status.code());
+    let (on, off) = (json(&on), json(&off));
+    let (a, b) = (on["episodes"].as_array().unwrap(), off["episodes"].as_array().unwrap());
+    assert_eq!(a.len(), 6);
+    assert!(a.iter().all(|e| e["optimal_length_m"].is_f64()));
+    assert!(a.iter().any(|e| e["path_ratio"].is_f64()));
+    for (x, y) in a.iter().zip(b) {
+        let (mut x, mut y) = (x.as_object().unwrap().clone(), y.as_object().unwrap().clone());
+        for key in ["optimal_length_m", "path_ratio"] {
+            assert!(y.remove(key).is_some_and(|v| v.is_null()), "{key}: {y:?}");
+            x.remove(key);
+        }
+        assert_eq!(x, y);
+    }
+    let (mut s, mut t) = (on["summary"].as_object().unwrap().clone(), off["summary"].as_object().unwrap().clone());
+    for key in ["median_path_ratio", "p90_path_ratio"] {
+        assert!(s.remove(key).is_some_and(|v| v.is_f64()));
+        assert!(t.remove(key).is_some_and(|v| v.is_null()));
+    }
+    assert_eq!(s, t);
+    // In CSV, empty cells.
+    let csv = strider(&["run", map, "--body", "disc", "--optimum", "off", "--format", "csv", "--episodes", "1"]);
+    let text = String::from_utf8(csv.stdout).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for key in ["optimal_length_m", "path_ratio"] {
+        let at = header.iter().position(|h| *h == key).unwrap();
+        assert_eq!(row[at], "", "{key}");
+    }
+    let bad = strider(&["run", map, "--optimum", "maybe"]);
+    assert_eq!(bad.status.code(), Some(2));
+}
+
+#[test]
+fn the_lines_of_one_map_give_what_each_gives_alone() {
+    // The lines of a map share its world and planner (and what earlier searches found of its
+    // graph): each line run alone gives the same record.
+    let map = movingai_map("alone");
+    let map = map.to_str().unwrap();
+    let whole = json(&strider(&["run", map, "--body", "disc", "--threads", "1"]));
+    let whole = whole["episodes"].as_array().unwrap();
+    for i in [5, 2, 0] {
+        let shard = format!("{i}/6");
+        let one = json(&strider(&["run", map, "--body", "disc", "--shard", &shard]));
+        assert_eq!(one["episodes"][0], whole[i], "line {i}");
+    }
+}
+
+#[test]
+fn a_batch_reports_steps_as_they_are_taken_and_each_episode() {
+    use experiment::Progress;
+    use std::sync::Mutex;
+    let c = controller();
+    // 120 m with a box half way: close to 1,900 steps.
+    let s = strider::maps::text::parse("start 0 0 0\ngoal 120 0\nbox 60 0 2 2 0\n", "long").unwrap();
+    let s = std::sync::Arc::new(s);
+    let make = |_| Job { scenario: s.clone(), task: 0, seed: 1 };
+    let heard: Mutex<Vec<Progress>> = Mutex::new(Vec::new());
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let records = one.install(|| {
+        experiment::run_episodes_each(
+            &[0, 1],
+            &make,
+            &c,
+            &StepParameters::default(),
+            experiment::Optimum::Off,
+            &|p| heard.lock().unwrap().push(p),
+            &|_| {},
+        )
+    });
+    let heard = heard.into_inner().unwrap();
+    let steps: u64 = records.iter().map(|r| u64::from(r.steps)).sum();
+    assert!(records.iter().all(|r| r.steps > experiment::STEPS_PER_REPORT), "{records:?}");
+    assert!(records.iter().all(|r| r.optimal_length_m.is_none() && r.path_ratio.is_none()));
+    let reported: u64 = heard.iter().map(|p| if let Progress::Steps(n) = p { *n } else { 0 }).sum();
+    assert_eq!(reported, steps);
+    // Each episode's steps are heard in reports of at most STEPS_PER_REPORT, before its end.
+    let ends: Vec<usize> = (0..heard.len()).filter(|&i| heard[i] == Progress::Episode).collect();
+    assert_eq!(ends.len(), 2);
+    assert!(ends[0] >= 2 && ends[1] >= ends[0] + 3, "{heard:?}");
+    assert!(heard.iter().all(|p| !matches!(p, Progress::Steps(n) if *n > u64::from(experiment::STEPS_PER_REPORT))));
+    // Without a terminal, `strider run` draws no progress: stderr holds the rate line only.
+    let out = strider(&["run", "maps/u_trap.rhai", "--body", "disc"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("agent-steps/s") && !err.contains('\u{1b}'), "{err}");
+}

@@ -21,7 +21,7 @@ use pyo3::types::{PyDict, PyList};
 use pyo3::{IntoPyObjectExt, create_exception};
 
 use strider::cli::merge;
-use strider::cli::run::{DataFormat, MapArgs, PreparedRun, RunArgs, RunIdentity, thread_pool};
+use strider::cli::run::{DataFormat, MapArgs, OptimumArg, PreparedRun, RunArgs, RunIdentity, thread_pool};
 use strider::experiment::{self, Shard};
 use strider::load::{BodyArgs, BodyKind, Failure};
 
@@ -120,6 +120,7 @@ pub(crate) fn run_args(
         body: BodyArgs { body: body_kind(body)?, ..BodyArgs::default() },
         bvh_out: None,
         shard,
+        optimum: OptimumArg::On,
     })
 }
 
@@ -189,7 +190,7 @@ fn run(
             if stop.load(Ordering::Acquire) {
                 break;
             }
-            records.extend(pool.install(|| prepared.run(chunk, &|| {}, &|_| {})));
+            records.extend(pool.install(|| prepared.run(chunk, &|_| {}, &|_| {})));
         }
         records
     })?;

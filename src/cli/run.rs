@@ -11,7 +11,7 @@ use clap::{Args, ValueEnum};
 
 use crate::anim::bvh::{self, BvhOptions};
 use crate::anim::{Clip, Skeleton};
-use crate::experiment::{self, EpisodeRecord, Field, Shard};
+use crate::experiment::{self, EpisodeRecord, Field, Optimum, Progress, Shard};
 use crate::files;
 use crate::load::{Failure, Outcome, load_map, load_rules};
 pub use crate::load::{MapSource, MapSpec, episode_count, job};
@@ -69,6 +69,20 @@ pub struct RunArgs {
     /// joins the slices' outputs into what the whole run prints.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<Shard>,
+    /// Work out each episode's reference optimum (`optimal_length_m`, the exact shortest path
+    /// for the agent's disc, and `path_ratio`); `off` leaves both null (empty in CSV) and the
+    /// summary's path ratios null, and saves the time.
+    #[arg(long, value_enum, default_value_t = OptimumArg::On)]
+    pub optimum: OptimumArg,
+}
+
+/// `--optimum on|off`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OptimumArg {
+    /// Work it out.
+    On,
+    /// Leave it out.
+    Off,
 }
 
 /// Data formats of `strider run`.
@@ -119,6 +133,8 @@ pub struct PreparedRun {
     pub episodes: Vec<usize>,
     /// What identifies the run, for a shard's output (`None` for a whole run).
     pub identity: Option<RunIdentity>,
+    /// Whether the episodes' reference optimum is worked out.
+    pub optimum: Optimum,
 }
 
 impl PreparedRun {
@@ -161,7 +177,11 @@ impl PreparedRun {
             )?),
             None => None,
         };
-        Ok(PreparedRun { source, controller, params, seed: args.map.seed, episodes, identity })
+        let optimum = match args.optimum {
+            OptimumArg::On => Optimum::On,
+            OptimumArg::Off => Optimum::Off,
+        };
+        Ok(PreparedRun { source, controller, params, seed: args.map.seed, episodes, identity, optimum })
     }
 
     /// Runs `episodes` (some of [`PreparedRun::episodes`]) in parallel on the current rayon
@@ -170,11 +190,11 @@ impl PreparedRun {
     pub fn run(
         &self,
         episodes: &[usize],
-        progress: &(dyn Fn() + Sync),
+        progress: &(dyn Fn(Progress) + Sync),
         each: &(dyn Fn(&experiment::Episode) + Sync),
     ) -> Vec<EpisodeRecord> {
         let make = |i: usize| job(&self.source, i, self.seed);
-        experiment::run_episodes_each(episodes, &make, &self.controller, &self.params, progress, each)
+        experiment::run_episodes_each(episodes, &make, &self.controller, &self.params, self.optimum, progress, each)
     }
 }
 
@@ -217,19 +237,30 @@ pub fn run(args: RunArgs) -> Outcome {
             write_failures.lock().unwrap_or_else(|p| p.into_inner()).push((e.record.episode, err));
         }
     };
-    let bar = if count > 1 && io::stderr().is_terminal() {
+    // On a terminal, the episodes done and the steps taken (a long episode moves the count
+    // on), on stderr; never on stdout, never when stderr is not a terminal.
+    let bar = io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(count as u64);
+        // One episode has no rate to tell its end by.
+        let eta = if count > 1 { ", eta {eta}" } else { "" };
+        let template = format!("{{bar:40}} {{pos}}/{{len}} episodes, {{msg}}, {{elapsed}} elapsed{eta}");
         b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} episodes, {elapsed} elapsed, eta {eta}")
+            indicatif::ProgressStyle::with_template(&template)
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
-        Some(b)
-    } else {
-        None
-    };
-    let progress = || {
-        if let Some(b) = &bar {
-            b.inc(1);
+        b.set_message("0 agent-steps");
+        b.enable_steady_tick(std::time::Duration::from_millis(250));
+        b
+    });
+    let taken = std::sync::atomic::AtomicU64::new(0);
+    let progress = |p: Progress| {
+        let Some(b) = &bar else { return };
+        match p {
+            Progress::Steps(n) => {
+                let total = taken.fetch_add(n, std::sync::atomic::Ordering::Relaxed) + n;
+                b.set_message(format!("{} agent-steps", indicatif::HumanCount(total)));
+            }
+            Progress::Episode => b.inc(1),
         }
     };
     let pool = thread_pool(args.threads)?;

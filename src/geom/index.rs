@@ -197,7 +197,19 @@ impl SpatialIndex {
 
     /// Visits items in ascending order of their box's distance from `p` (ties by index) until
     /// `visit(item, distance)` returns `false`. Boxes with NaN corners are never visited.
-    pub fn visit_nearest(&self, p: DVec2, mut visit: impl FnMut(usize, f64) -> bool) {
+    pub fn visit_nearest(&self, p: DVec2, visit: impl FnMut(usize, f64) -> bool) {
+        self.visit_nearest_within(p, |_, _| true, visit);
+    }
+
+    /// [`SpatialIndex::visit_nearest`], asking `open(bounds, distance)` before looking into each
+    /// node of the tree (in the same order, at its box's distance from `p`): a node it refuses
+    /// is passed over with every item in it.
+    pub fn visit_nearest_within(
+        &self,
+        p: DVec2,
+        mut open: impl FnMut(&Aabb, f64) -> bool,
+        mut visit: impl FnMut(usize, f64) -> bool,
+    ) {
         if self.nodes.is_empty() || p.is_nan() {
             return;
         }
@@ -212,6 +224,9 @@ impl SpatialIndex {
                 continue;
             }
             let node = self.nodes[index];
+            if !open(&node.bounds, dist) {
+                continue;
+            }
             if node.count > 0 {
                 for &i in &self.order[node.first..node.first + node.count] {
                     let d = self.boxes[i].distance(p);
@@ -363,6 +378,19 @@ mod tests {
                 count < 5
             });
             assert_eq!(count, 5);
+            // Nodes refused are passed over, with their items only.
+            let mut kept = Vec::new();
+            index.visit_nearest_within(
+                p,
+                |b, _| b.min.x <= 25.0,
+                |i, d| {
+                    kept.push((d, i));
+                    true
+                },
+            );
+            assert!(kept.windows(2).all(|w| w[0] <= w[1]));
+            assert!(expected.iter().filter(|(_, i)| boxes[*i].min.x <= 25.0).all(|e| kept.contains(e)));
+            assert!(kept.len() < expected.len());
 
             let dir = DVec2::from_angle(next() * std::f64::consts::TAU);
             let len = next() * 40.0;

@@ -8,6 +8,7 @@
 
 use glam::DVec2;
 
+use super::rim::{Circle, angle_of, crossings};
 use crate::geom::{Aabb, Shape, SpatialIndex};
 use crate::world::World;
 
@@ -155,6 +156,49 @@ impl Clearance {
         self.index.aabb(i).copied()
     }
 
+    /// Blocker `j`.
+    pub(crate) fn blocker(&self, j: usize) -> &Blocker {
+        &self.blockers[j]
+    }
+
+    /// Whether `p` lies in the interior of grown obstacle `j` (beyond the tolerance).
+    pub(crate) fn blocks_point(&self, j: usize, p: DVec2) -> bool {
+        self.blockers[j].blocks_point(p, self.radius, self.eps)
+    }
+
+    /// Replaces `out` with the grown obstacles whose boxes lie within `reach` metres of `p`.
+    pub(crate) fn near(&self, p: DVec2, reach: f64, out: &mut Vec<usize>) {
+        self.index.query_circle(p, reach, out);
+    }
+
+    /// Appends to `out` the directions (radians from `rim`'s centre) in which the circle `rim`
+    /// (radius > 0) may cross the boundary of grown obstacle `j`'s interior as the point tests
+    /// count it: for a disc, where it meets the disc shrunk by the tolerance; for a polygon,
+    /// where it meets the lines of the edges moved out by `r − ε` and, for `r > ε`, the
+    /// circles of that radius round the corners. Every true crossing is among them.
+    pub(crate) fn cuts(&self, j: usize, rim: Circle, out: &mut Vec<f64>) {
+        let rho = rim.radius;
+        let meet = |center: DVec2, radius: f64, out: &mut Vec<f64>| {
+            let to = center - rim.center;
+            let d = to.length();
+            if d > 0.0 && radius > 0.0 {
+                crossings(angle_of(to), (d * d + rho * rho - radius * radius) / (2.0 * rho * d), out);
+            }
+        };
+        match &self.blockers[j] {
+            Blocker::Disc { center, radius } => meet(*center, radius - self.eps, out),
+            Blocker::Polygon { vertices, normals } => {
+                let limit = self.radius - self.eps;
+                for (&v, &n) in vertices.iter().zip(normals) {
+                    crossings(angle_of(n), (limit - n.dot(rim.center - v)) / rho, out);
+                }
+                if limit > 0.0 {
+                    vertices.iter().for_each(|&v| meet(v, limit, out));
+                }
+            }
+        }
+    }
+
     /// Whether `p` lies outside the interior of every grown obstacle other than `skip`.
     pub(crate) fn point_free(&self, p: DVec2, skip: Option<usize>, scratch: &mut Vec<usize>) -> bool {
         if !p.is_finite() {
@@ -172,10 +216,27 @@ impl Clearance {
         !self.index.any_along(a, b - a, 1.0, |i| self.blockers[i].blocks_segment(a, b, self.radius, self.eps))
     }
 
-    /// Visits the grown obstacles nearest first by the distance of their boxes from `p`
-    /// ([`SpatialIndex::visit_nearest`]).
-    pub(crate) fn visit_nearest(&self, p: DVec2, visit: impl FnMut(usize, f64) -> bool) {
-        self.index.visit_nearest(p, visit);
+    /// [`Clearance::segment_clear`] leaving out the grown obstacles `skip`: those the segment
+    /// is known to touch only from outside (a tangent at its end).
+    pub(crate) fn segment_clear_except(&self, a: DVec2, b: DVec2, skip: [usize; 2]) -> bool {
+        if !(a.is_finite() && b.is_finite()) {
+            return false;
+        }
+        !self.index.any_along(a, b - a, 1.0, |i| {
+            !skip.contains(&i) && self.blockers[i].blocks_segment(a, b, self.radius, self.eps)
+        })
+    }
+
+    /// Visits the grown obstacles nearest first by the distance of their boxes from `p`,
+    /// passing over the parts of the index whose bounds `open` refuses
+    /// ([`SpatialIndex::visit_nearest_within`]).
+    pub(crate) fn visit_nearest(
+        &self,
+        p: DVec2,
+        open: impl FnMut(&Aabb, f64) -> bool,
+        visit: impl FnMut(usize, f64) -> bool,
+    ) {
+        self.index.visit_nearest_within(p, open, visit);
     }
 
     /// The agent radius and the tolerance, metres.

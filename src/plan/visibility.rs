@@ -1,214 +1,573 @@
-//! The visibility graph over the vertices of the polygonal approximations of the grown
-//! obstacles, restricted to bitangent edges.
+//! The tangent visibility graph over the rims of the grown obstacles, built as the searches
+//! need it and kept for every later search in the same world.
 //!
-//! Nodes are the vertices of every approximation polygon that do not lie in the interior of
-//! another grown obstacle (all vertices of a convex polygon are convex). Two nodes are joined
-//! when the segment between them is clear ([`Clearance::segment_clear`], exact rounded shapes)
-//! and the segment's line supports both vertices' polygons, that is, it does not cut into the
-//! polygon at either end. A shortest path among polygons only bends at vertices it wraps
-//! around, so every edge of it has this property; dropping the other edges leaves the shortest
-//! path unchanged and removes most candidate pairs. Two vertices of one polygon are joined only
-//! when they are neighbours (any other chord crosses the polygon).
+//! Rim `first[j] + i` is corner `i` of grown polygon `j` (radius `r`, its cone between the
+//! normals of the corner's two edges), or the one rim of grown disc `j` (its whole circle).
+//! A rim's *free arcs* are the directions of its cone in which its boundary lies outside every
+//! other grown obstacle ([`FreeArcs`]). A *leg* leaves rim `k` bending one way round it and
+//! meets rim `m` bending one way round that: the closed-form tangent of the two circles
+//! ([`tangent`]), kept when it touches both rims on free arcs and is clear of every other
+//! grown obstacle. A leg that touches a rim within its cone is a supporting line of that
+//! grown obstacle, so only the other obstacles are tested against it; a taut path only bends
+//! round the rims it touches in this way, so no other segment can be on a shortest path.
+//!
+//! Both a rim's free arcs and its legs are found the first time a search asks for them and
+//! kept ([`OnceLock`]): searches in one world, on any thread, share them, and what a search
+//! finds does not depend on what earlier searches left (a rim's legs are the same whenever
+//! they are found). Looking for the legs leaving a rim one way walks the grown obstacles
+//! nearest first from the rim's centre and keeps the directions of the legs already known to
+//! be blocked: every point outside the rim lies on exactly one leg leaving it that way
+//! ([`sight`]), so a convex stand-in inside a grown obstacle blocks a range of leg
+//! directions beyond its farthest point. Rims in those directions and beyond are never
+//! tested, whole parts of the spatial index whose box is hidden are passed over, and the walk
+//! ends once every direction is hidden, so finding a rim's legs costs what is in sight of it,
+//! not the size of the map.
 
-use std::f64::consts::{PI, TAU};
+use std::cell::RefCell;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::DVec2;
 
 use super::clearance::{Blocker, Clearance};
-use crate::geom::ConvexPolygon;
+use super::rim::{ANGLE_SLACK, Circle, FreeArcs, Tangent, Turn, angle_of, tangent};
+use crate::geom::Aabb;
 
-/// Angular slack (radians) of the coarse wedge filter; it only ever admits extra candidates.
-const WEDGE_SLACK: f64 = 1e-6;
+/// A rim's index in the graph.
+pub(crate) type RimId = u32;
 
-/// Relative tolerance of the supporting-line test; it only ever admits extra candidates.
-const TANGENT_SLACK: f64 = 1e-12;
-
-/// The polygon approximating one grown obstacle.
-#[derive(Debug, Clone)]
-pub(crate) struct Hull {
-    /// Counter-clockwise vertices, metres.
-    pub(crate) vertices: Vec<DVec2>,
-    /// Node index of each vertex (`None`: inside another grown obstacle).
-    pub(crate) nodes: Vec<Option<usize>>,
-    /// Centre and radius of a disc containing the polygon, metres.
-    center: DVec2,
-    bound: f64,
+/// A straight leg from a rim (or a free point) to a rim.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Leg {
+    /// The rim it meets.
+    pub(crate) to: RimId,
+    /// The way the path bends round that rim.
+    pub(crate) turn: Turn,
+    /// Direction of the outward normal where it leaves its rim, radians (a point: unused).
+    pub(crate) leave: f64,
+    /// Direction of the outward normal where it meets `to`, radians.
+    pub(crate) arrive: f64,
+    /// Where it meets `to`, metres.
+    pub(crate) at: DVec2,
+    /// Length, metres.
+    pub(crate) length: f64,
 }
 
-impl Hull {
-    /// Whether `p` lies in the closed polygon.
-    pub(crate) fn contains(&self, p: DVec2) -> bool {
-        let n = self.vertices.len();
-        (0..n).all(|k| {
-            let (a, b) = (self.vertices[k], self.vertices[(k + 1) % n]);
-            (b - a).perp_dot(p - a) >= 0.0
-        })
-    }
+/// The legs leaving one rim one way, by rim met and turn there: every leg that touches both
+/// rims on free arcs and is not hidden; whether it is also clear of the other grown obstacles
+/// is tested the first time a search asks ([`Legs::is_clear`]) and kept.
+#[derive(Debug, Default)]
+pub(crate) struct Legs {
+    list: Box<[Leg]>,
+    /// Per leg: [`UNTESTED`], [`CLEAR`] or [`BLOCKED`].
+    clear: Box<[AtomicU8]>,
 }
 
-/// A graph node: one polygon vertex with its neighbours on the polygon.
-#[derive(Debug, Clone)]
-pub(crate) struct Node {
-    /// Position, metres.
-    pub(crate) pos: DVec2,
-    prev: DVec2,
-    next: DVec2,
-    /// Direction of the incoming polygon edge, radians.
-    heading_in: f64,
-    /// Exterior angle at the vertex, radians in `[0, π)`.
-    turn: f64,
-    /// Squared length of the longer adjacent polygon edge, square metres.
-    reach2: f64,
-}
+/// States of [`Legs::clear`].
+const UNTESTED: u8 = 0;
+const CLEAR: u8 = 1;
+const BLOCKED: u8 = 2;
 
-impl Node {
-    /// Whether the line through this vertex and `q` supports the vertex's polygon.
-    pub(crate) fn supports(&self, q: DVec2) -> bool {
-        let d = q - self.pos;
-        let s1 = d.perp_dot(self.prev - self.pos);
-        let s2 = d.perp_dot(self.next - self.pos);
-        if s1 * s2 >= 0.0 {
-            return true;
-        }
-        // Opposite sides: still accept when either neighbour is within rounding of the line.
-        let tol2 = TANGENT_SLACK * TANGENT_SLACK * d.length_squared() * self.reach2;
-        s1 * s1 <= tol2 || s2 * s2 <= tol2
+impl Legs {
+    fn new(list: Vec<Leg>) -> Legs {
+        Legs { clear: list.iter().map(|_| AtomicU8::new(UNTESTED)).collect(), list: list.into() }
     }
 
-    /// Whether some direction from this vertex into the disc (`center`, `radius`) could give a
-    /// supporting line (coarse filter, errs on the side of `true`).
-    fn may_support_towards(&self, center: DVec2, radius: f64) -> bool {
-        let to = center - self.pos;
-        let dist = to.length();
-        if !(dist > radius) {
-            return true;
-        }
-        let half = (radius / dist).asin();
-        // Supporting directions are those within `turn` after `heading_in`, modulo a half turn.
-        let width = 2.0 * half + WEDGE_SLACK;
-        if width >= PI - self.turn {
-            return true;
-        }
-        let x = (to.y.atan2(to.x) - half - self.heading_in).rem_euclid(PI);
-        x <= self.turn + WEDGE_SLACK || x + width >= PI
+    /// The legs.
+    pub(crate) fn list(&self) -> &[Leg] {
+        &self.list
     }
-}
 
-/// Vertices of a polygon containing `blocker` grown by `radius`, with circular arcs replaced by
-/// circumscribed segments, at most `TAU / arc_segments` radians each.
-fn approximation(blocker: &Blocker, radius: f64, arc_segments: usize) -> Option<Vec<DVec2>> {
-    match blocker {
-        Blocker::Polygon { vertices, .. } => {
-            let poly = ConvexPolygon::new(vertices).ok()?;
-            Some(poly.grown(radius, arc_segments).ok()?.vertices().to_vec())
-        }
-        Blocker::Disc { center, radius: total } => {
-            let n = arc_segments.max(4);
-            let scale = center.x.abs().max(center.y.abs()) + total;
-            let reach = total / (PI / n as f64).cos() + 8.0 * f64::EPSILON * scale;
-            Some((0..n).map(|i| *center + DVec2::from_angle(TAU * i as f64 / n as f64) * reach).collect())
+    /// Whether leg `i` is clear, `test` telling the first time. Every thread that asks gets
+    /// the same answer (the test is a function of the leg alone).
+    fn is_clear(&self, i: usize, test: impl FnOnce() -> bool) -> bool {
+        match self.clear[i].load(Ordering::Relaxed) {
+            CLEAR => true,
+            BLOCKED => false,
+            _ => {
+                let clear = test();
+                self.clear[i].store(if clear { CLEAR } else { BLOCKED }, Ordering::Relaxed);
+                clear
+            }
         }
     }
 }
 
-/// Approximation polygons and their nodes; edges are found when a search asks for them.
+impl Clone for Legs {
+    fn clone(&self) -> Legs {
+        let clear = self.clear.iter().map(|c| AtomicU8::new(c.load(Ordering::Relaxed))).collect();
+        Legs { list: self.list.clone(), clear }
+    }
+}
+
+/// The normals a rim's boundary may have: all, or those between two unit normals (the
+/// corner's edges' normals, counter-clockwise, less than π apart).
+#[derive(Debug, Clone, Copy)]
+enum Cone {
+    Whole,
+    Between(DVec2, DVec2),
+}
+
+impl Cone {
+    /// Whether the unit normal `n` lies in the cone (within [`ANGLE_SLACK`]); cheap, with no
+    /// angle computed.
+    fn holds(self, n: DVec2) -> bool {
+        match self {
+            Cone::Whole => true,
+            Cone::Between(lo, hi) => lo.perp_dot(n) >= -ANGLE_SLACK && n.perp_dot(hi) >= -ANGLE_SLACK,
+        }
+    }
+
+    /// The cone as an angular range `(start, width)`, radians.
+    fn range(self) -> (f64, f64) {
+        match self {
+            Cone::Whole => (-PI, TAU),
+            Cone::Between(lo, hi) => (angle_of(lo), lo.perp_dot(hi).atan2(lo.dot(hi)).max(0.0)),
+        }
+    }
+}
+
+/// One rim as the walks see it.
+#[derive(Debug, Clone, Copy)]
+struct RimView {
+    id: RimId,
+    circle: Circle,
+    cone: Cone,
+    owner: usize,
+}
+
+/// The rims of the grown obstacles and what the searches have found of their legs.
 #[derive(Debug, Clone)]
 pub(crate) struct Graph {
-    pub(crate) hulls: Vec<Hull>,
-    pub(crate) nodes: Vec<Node>,
-    /// Hull of each node.
-    hull_of: Vec<usize>,
-    /// Conservative stand-in of each grown obstacle for occlusion (`None`: none).
-    occluders: Vec<Option<Occluder>>,
-    /// How far any approximation vertex lies outside its obstacle's indexed box, metres.
+    /// First rim of each grown obstacle, and the number of rims last.
+    first: Vec<RimId>,
+    /// Grown obstacle of each rim.
+    owner: Vec<u32>,
+    free: Vec<OnceLock<FreeArcs>>,
+    /// The legs leaving each rim bending left round it, then those bending right (`2k + turn`).
+    legs: Vec<OnceLock<Legs>>,
+    /// Rounding slack on how far a rim's points lie outside its obstacle's indexed box, metres.
+    stick_out: f64,
+    /// How far a point may lie inside a rim and still count as on it, metres.
+    touch: f64,
+}
+
+/// An occluder's shadow, waiting until the walk passes its far distance.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    far: f64,
+    lo: f64,
+    hi: f64,
+}
+
+impl Graph {
+    /// The rims of `clearance`'s grown obstacles; their free arcs and legs are found later.
+    pub(crate) fn new(clearance: &Clearance) -> Option<Graph> {
+        let mut first = Vec::with_capacity(clearance.blockers().len() + 1);
+        let mut owner = Vec::new();
+        let mut span = 0.0f64;
+        for (j, b) in clearance.blockers().iter().enumerate() {
+            first.push(u32::try_from(owner.len()).ok()?);
+            let count = match b {
+                Blocker::Polygon { vertices, .. } => vertices.len(),
+                Blocker::Disc { .. } => 1,
+            };
+            owner.extend(std::iter::repeat_n(u32::try_from(j).ok()?, count));
+            if let Some(b) = clearance.grown_aabb(j) {
+                span = span.max(b.min.abs().max_element()).max(b.max.abs().max_element());
+            }
+        }
+        first.push(u32::try_from(owner.len()).ok()?);
+        let rims = owner.len();
+        let (_, eps) = clearance.radius_and_tolerance();
+        Some(Graph {
+            first,
+            owner,
+            free: (0..rims).map(|_| OnceLock::new()).collect(),
+            legs: (0..2 * rims).map(|_| OnceLock::new()).collect(),
+            stick_out: 1e-9 * span.max(1.0),
+            touch: 2.0 * eps,
+        })
+    }
+
+    /// Number of rims.
+    pub(crate) fn rim_count(&self) -> usize {
+        self.owner.len()
+    }
+
+    /// The circle of rim `k`.
+    pub(crate) fn circle(&self, clearance: &Clearance, k: RimId) -> Circle {
+        self.view(clearance, self.owner[k as usize] as usize, k).circle
+    }
+
+    /// Rim `k` of grown obstacle `j`.
+    fn view(&self, clearance: &Clearance, j: usize, k: RimId) -> RimView {
+        let (r, _) = clearance.radius_and_tolerance();
+        match clearance.blocker(j) {
+            Blocker::Polygon { vertices, normals } => {
+                let i = (k - self.first[j]) as usize;
+                let n = vertices.len();
+                let cone = Cone::Between(normals[(i + n - 1) % n], normals[i]);
+                RimView { id: k, circle: Circle { center: vertices[i], radius: r }, cone, owner: j }
+            }
+            Blocker::Disc { center, radius } => {
+                RimView { id: k, circle: Circle { center: *center, radius: *radius }, cone: Cone::Whole, owner: j }
+            }
+        }
+    }
+
+    /// The free arcs of rim `k`, found once.
+    pub(crate) fn free(&self, clearance: &Clearance, k: RimId) -> &FreeArcs {
+        self.free[k as usize].get_or_init(|| {
+            let rim = self.view(clearance, self.owner[k as usize] as usize, k);
+            let mut near = Vec::new();
+            clearance.near(rim.circle.center, rim.circle.radius, &mut near);
+            near.retain(|&j| j != rim.owner);
+            let mut cuts = Vec::new();
+            if rim.circle.radius > 0.0 {
+                near.iter().for_each(|&j| clearance.cuts(j, rim.circle, &mut cuts));
+            }
+            let (start, width) = rim.cone.range();
+            FreeArcs::of(start, width, &mut cuts, |a| {
+                let p = rim.circle.at(a);
+                near.iter().any(|&j| clearance.blocks_point(j, p))
+            })
+        })
+    }
+
+    /// The legs leaving rim `k` bending `turn` round it, found once (always with hidden
+    /// obstacles skipped).
+    pub(crate) fn legs(&self, clearance: &Clearance, k: RimId, turn: Turn) -> &Legs {
+        self.legs[2 * k as usize + turn as usize].get_or_init(|| self.find_legs(clearance, k, turn, true))
+    }
+
+    /// The legs leaving rim `k` bending `turn` round it, found now; `cull`: skip obstacles
+    /// hidden behind nearer ones.
+    pub(crate) fn find_legs(&self, clearance: &Clearance, k: RimId, turn: Turn, cull: bool) -> Legs {
+        let source = self.view(clearance, self.owner[k as usize] as usize, k);
+        let own = self.free(clearance, k);
+        if own.is_empty() {
+            return Legs::default();
+        }
+        let mut list = Vec::new();
+        self.walk(clearance, source.circle, turn, Some(own), cull, |target, hidden| {
+            if target.id == k {
+                return;
+            }
+            for tb in Turn::BOTH {
+                let Some(t) = tangent(source.circle, turn, target.circle, tb, self.touch) else { continue };
+                if !(source.cone.holds(t.leave) && target.cone.holds(t.arrive)) || hidden(t.dir) {
+                    continue;
+                }
+                let (leave, arrive) = (angle_of(t.leave), angle_of(t.arrive));
+                if own.locate(leave).is_some() && self.free(clearance, target.id).locate(arrive).is_some() {
+                    list.push(Leg { to: target.id, turn: tb, leave, arrive, at: t.to, length: t.length });
+                }
+            }
+        });
+        list.sort_by(|a, b| a.to.cmp(&b.to).then(a.turn.cmp(&b.turn)));
+        Legs::new(list)
+    }
+
+    /// Whether leg `i` of `legs`, leaving rim `k`, is clear of the grown obstacles other than
+    /// the two it touches (which it only touches: it leaves and meets them along a tangent).
+    pub(crate) fn leg_clear(&self, clearance: &Clearance, k: RimId, legs: &Legs, i: usize) -> bool {
+        legs.is_clear(i, || {
+            let leg = &legs.list[i];
+            let from = self.circle(clearance, k).at(leg.leave);
+            let owners = [self.owner[k as usize] as usize, self.owner[leg.to as usize] as usize];
+            clearance.segment_clear_except(from, leg.at, owners)
+        })
+    }
+
+    /// The legs from the free point `p` to every rim it sees, bending either way round it.
+    pub(crate) fn legs_from(&self, clearance: &Clearance, p: DVec2, cull: bool) -> Vec<Leg> {
+        let point = Circle { center: p, radius: 0.0 };
+        let mut out = Vec::new();
+        self.walk(clearance, point, Turn::Left, None, cull, |target, hidden| {
+            for tb in Turn::BOTH {
+                let Some(t) = tangent(point, Turn::Left, target.circle, tb, self.touch) else { continue };
+                if let Some(arrive) = self.touching(clearance, &target, &t, t.arrive, hidden, t.dir) {
+                    out.push(Leg { to: target.id, turn: tb, leave: 0.0, arrive, at: t.to, length: t.length });
+                }
+            }
+        });
+        out.sort_by(|a, b| a.to.cmp(&b.to).then(a.turn.cmp(&b.turn)));
+        out
+    }
+
+    /// The legs from every rim that sees the free point `p` to it, as `(rim, turn, leave,
+    /// length)`, sorted by rim and turn.
+    pub(crate) fn legs_to(&self, clearance: &Clearance, p: DVec2, cull: bool) -> Vec<(RimId, Turn, f64, f64)> {
+        let point = Circle { center: p, radius: 0.0 };
+        let mut out = Vec::new();
+        self.walk(clearance, point, Turn::Left, None, cull, |target, hidden| {
+            for ta in Turn::BOTH {
+                let Some(t) = tangent(target.circle, ta, point, Turn::Left, self.touch) else { continue };
+                if let Some(leave) = self.touching(clearance, &target, &t, t.leave, hidden, -t.dir) {
+                    out.push((target.id, ta, leave, t.length));
+                }
+            }
+        });
+        out.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+        out
+    }
+
+    /// For a leg `t` between a free point and `rim`, touching the rim with normal `normal`, and
+    /// seen from the point in the direction `seen`: the normal's direction when the leg touches
+    /// the rim on a free arc, is not hidden and is clear.
+    fn touching(
+        &self,
+        clearance: &Clearance,
+        rim: &RimView,
+        t: &Tangent,
+        normal: DVec2,
+        hidden: &dyn Fn(DVec2) -> bool,
+        seen: DVec2,
+    ) -> Option<f64> {
+        if !rim.cone.holds(normal) {
+            return None;
+        }
+        let angle = angle_of(normal);
+        (self.free(clearance, rim.id).locate(angle).is_some()
+            && !hidden(seen)
+            && clearance.segment_clear_except(t.from, t.to, [rim.owner, rim.owner]))
+        .then_some(angle)
+    }
+
+    /// Calls `visit(rim, hidden)` for every rim that a leg leaving the circle `source`
+    /// bending `turn` round it might reach, grown obstacles nearest its centre first;
+    /// `hidden(direction)` tells whether such a leg in the direction `direction` to a point of
+    /// that rim is known to be blocked (always `false` without `cull`). `arcs`: the source's
+    /// free arcs, where legs leave it. With `cull`, the parts of the index whose box is hidden
+    /// are passed over, and the walk ends once every direction is hidden.
+    ///
+    /// What hides what: every point `x` outside `source` lies on one leg leaving it bending
+    /// `turn`, in the direction [`sight`] gives; a convex stand-in inside a grown obstacle
+    /// hides the open range of directions of the legs that cross it, from the distance of its
+    /// farthest point on (a leg's points grow farther from the centre along it). A point
+    /// source sees alike whichever way the legs bend.
+    fn walk(
+        &self,
+        clearance: &Clearance,
+        source: Circle,
+        turn: Turn,
+        arcs: Option<&FreeArcs>,
+        cull: bool,
+        mut visit: impl FnMut(RimView, &dyn Fn(DVec2) -> bool),
+    ) {
+        let c = source.center;
+        let (r, eps) = clearance.radius_and_tolerance();
+        let mut shade = Shade::default();
+        if let Some(FreeArcs::Arcs(arcs)) = arcs {
+            // A leg leaves square to a normal on a free arc: bending left a quarter turn
+            // counter-clockwise from it, bending right clockwise. No leg goes elsewhere.
+            let quarter = turn.sign() * FRAC_PI_2;
+            for (k, &(start, width)) in arcs.iter().enumerate() {
+                let (next, _) = arcs[(k + 1) % arcs.len()];
+                let gap = (next - start - width).rem_euclid(TAU);
+                let gap = if gap == 0.0 && arcs.len() == 1 { TAU } else { gap };
+                if gap > 1e-6 {
+                    let lo = pseudo_angle(DVec2::from_angle(start + width + quarter));
+                    let hi = pseudo_angle(DVec2::from_angle(start + width + gap + quarter));
+                    let hi = if hi <= lo { hi + FULL_TURN } else { hi };
+                    shade.add(lo + SHADE_SLACK, hi - SHADE_SLACK);
+                }
+            }
+        }
+        let sight = RefCell::new(Sight {
+            source,
+            turn,
+            shade,
+            pending: Vec::new(),
+            outline: Vec::new(),
+            dirs: Vec::new(),
+            stick_out: self.stick_out,
+        });
+        let open = |b: &Aabb, dist: f64| {
+            let mut sight = sight.borrow_mut();
+            !cull || !(sight.pass(dist) || sight.hides(b))
+        };
+        clearance.visit_nearest(c, open, |j, dist| {
+            let mut sight = sight.borrow_mut();
+            if cull {
+                if sight.pass(dist) {
+                    return false;
+                }
+                // The obstacle's rims lie in its grown box: when that box is hidden, so are
+                // they, and its shadow would hide nothing more.
+                if clearance.grown_aabb(j).is_some_and(|b| sight.hides(&b)) {
+                    return true;
+                }
+                sight.cast(clearance.blocker(j), r, eps);
+            }
+            let hidden = |direction: DVec2| cull && sight.shade.covers(pseudo_angle(direction));
+            for k in self.first[j]..self.first[j + 1] {
+                visit(self.view(clearance, j, k), &hidden);
+            }
+            true
+        });
+    }
+}
+
+/// What a walk knows is hidden from its source, for legs bending one way.
+struct Sight {
+    source: Circle,
+    turn: Turn,
+    /// The directions hidden.
+    shade: Shade,
+    /// Shadows of occluders the walk has not yet passed.
+    pending: Vec<Pending>,
+    /// Scratch.
+    outline: Vec<DVec2>,
+    dirs: Vec<DVec2>,
     stick_out: f64,
 }
 
-/// A convex shape strictly inside a grown obstacle's interior (as the clearance test counts
-/// it): a segment that crosses it is blocked.
-#[derive(Debug, Clone)]
-enum Occluder {
-    /// Counter-clockwise vertices.
-    Polygon(Vec<DVec2>),
-    /// Centre and radius.
-    Disc(DVec2, f64),
+impl Sight {
+    /// The walk has come `dist` metres from the source (everything from now on lies at least
+    /// that far, give or take the stick-out): the shadows of the occluders passed join the
+    /// shade. Whether every direction is hidden.
+    fn pass(&mut self, dist: f64) -> bool {
+        let reach = dist - self.stick_out;
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.pending[i].far < reach {
+                let q = self.pending.swap_remove(i);
+                self.shade.add(q.lo, q.hi);
+            } else {
+                i += 1;
+            }
+        }
+        self.shade.full()
+    }
+
+    /// Whether every point of the box `b` (grown by the stick-out) is hidden.
+    fn hides(&mut self, b: &Aabb) -> bool {
+        let b = b.expanded(self.stick_out);
+        let corners = [b.min, DVec2::new(b.max.x, b.min.y), b.max, DVec2::new(b.min.x, b.max.y)];
+        extent(self.source, self.turn, &corners, &mut self.dirs).is_some_and(|(lo, hi)| self.shade.covers_range(lo, hi))
+    }
+
+    /// Adds the shadow of a grown obstacle's stand-in, to join the shade once passed.
+    fn cast(&mut self, blocker: &Blocker, r: f64, eps: f64) {
+        let (source, turn) = (self.source, self.turn);
+        let shadow = if stand_in(blocker, r, eps, &mut self.outline) {
+            let far = self.outline.iter().map(|v| v.distance(source.center)).fold(0.0, f64::max);
+            extent(source, turn, &self.outline, &mut self.dirs).map(|(lo, hi)| (far, lo, hi))
+        } else if let Blocker::Disc { center, radius } = blocker {
+            let disc = Circle { center: *center, radius: radius - 2.0 * eps - 1e-9 * radius };
+            let side = |t| tangent(source, turn, disc, t, 0.0).map(|t| t.dir);
+            match (side(Turn::Left), side(Turn::Right)) {
+                (Some(lo), Some(hi)) if lo.perp_dot(hi) > 0.0 => {
+                    let (lo, hi) = (pseudo_angle(lo), pseudo_angle(hi));
+                    let far = source.center.distance(disc.center) + disc.radius;
+                    Some((far, lo, if hi < lo { hi + FULL_TURN } else { hi }))
+                }
+                _ => None,
+            }
+        } else {
+            None
+        };
+        if let Some((far, lo, hi)) = shadow {
+            self.pending.push(Pending { far, lo: lo + SHADE_SLACK, hi: hi - SHADE_SLACK });
+        }
+    }
 }
 
-impl Occluder {
-    /// The occluder of `blocker` for agent radius `r` and tolerance `eps`.
-    fn of(blocker: &Blocker, r: f64, eps: f64) -> Option<Occluder> {
-        match blocker {
-            Blocker::Disc { center, radius } => {
-                let inner = radius - 2.0 * eps - 1e-9 * radius;
-                (inner > 0.0).then_some(Occluder::Disc(*center, inner))
-            }
-            Blocker::Polygon { vertices, normals } => {
-                // Every point within `r - eps` of the polygon is blocked; offset the edges by
-                // at most half of that, so that even the offset corners stay well inside.
-                let room = 0.5 * (r - eps);
-                if !(room > 0.0) {
-                    return None;
-                }
-                let n = vertices.len();
-                let half_cos = |k: usize| (0.5 * (1.0 + normals[(k + n - 1) % n].dot(normals[k]))).max(0.0).sqrt();
-                let delta = room * (0..n).map(half_cos).fold(1.0, f64::min);
-                let offset = (0..n)
-                    .map(|k| {
-                        let (a, b) = (normals[(k + n - 1) % n], normals[k]);
-                        let c = 1.0 + a.dot(b);
-                        if c > 1e-9 { vertices[k] + (a + b) * (delta / c) } else { vertices[k] }
-                    })
-                    .collect();
-                Some(Occluder::Polygon(offset))
-            }
-        }
-    }
+/// Slack (in [`pseudo_angle`] units, at most 1.6 radians each) by which a shadow is narrowed:
+/// rounding never hides a leg that grazes an occluder's edge.
+const SHADE_SLACK: f64 = 1e-9;
 
-    /// The open range of directions `(lo, hi)` (radians, `lo < hi`, within 2π of each other)
-    /// in which a ray from `p` crosses the occluder's interior, and the distance beyond which
-    /// every point of such a ray lies behind it; `None` when `p` is not clearly outside.
-    fn shadow(&self, p: DVec2) -> Option<(f64, f64, f64)> {
-        const SLACK: f64 = 1e-9;
-        match self {
-            Occluder::Disc(center, radius) => {
-                let to = *center - p;
-                let d = to.length();
-                if !(d > radius * (1.0 + 1e-9)) {
-                    return None;
-                }
-                let half = (radius / d).asin() - SLACK;
-                let mid = to.y.atan2(to.x);
-                (half > 0.0).then_some((mid - half, mid + half, d + radius))
-            }
-            Occluder::Polygon(vertices) => {
-                let n = vertices.len();
-                // Clearly outside: beyond some edge's line.
-                let outside = (0..n).any(|k| {
-                    let (a, b) = (vertices[k], vertices[(k + 1) % n]);
-                    (b - a).perp_dot(p - a) < -1e-9 * (b - a).length()
-                });
-                if !outside {
-                    return None;
-                }
-                let first = vertices[0] - p;
-                let base = first.y.atan2(first.x);
-                let (mut lo, mut hi, mut far) = (0.0f64, 0.0f64, 0.0f64);
-                for &v in vertices {
-                    let to = v - p;
-                    let rel = (to.y.atan2(to.x) - base + PI).rem_euclid(TAU) - PI;
-                    lo = lo.min(rel);
-                    hi = hi.max(rel);
-                    far = far.max(to.length());
-                }
-                let (lo, hi) = (base + lo + SLACK, base + hi - SLACK);
-                (lo < hi && hi - lo < PI).then_some((lo, hi, far))
-            }
+/// A full turn in [`pseudo_angle`] units.
+const FULL_TURN: f64 = 4.0;
+
+/// Half a turn in [`pseudo_angle`] units.
+const HALF: f64 = 2.0;
+
+/// A number in `(−2, 2]` that grows with the direction of `v` as its angle does over
+/// `(−π, π]` (the "diamond angle": the turn measured along the square `|x| + |y| = 1`), for
+/// ordering directions without trigonometry.
+fn pseudo_angle(v: DVec2) -> f64 {
+    let t = v.y / (v.x.abs() + v.y.abs());
+    if v.x >= 0.0 {
+        t
+    } else if v.y >= 0.0 {
+        2.0 - t
+    } else {
+        -2.0 - t
+    }
+}
+
+/// The direction (not normalised) of the leg that leaves the circle `source` bending `turn`
+/// round it and passes through `x`; `None` for `x` on or inside the circle. It is the closed
+/// form of [`tangent`] to a circle of radius 0 at `x`.
+fn sight(source: Circle, turn: Turn, x: DVec2) -> Option<DVec2> {
+    let to = x - source.center;
+    let k = -turn.sign() * source.radius;
+    let l2 = to.length_squared() - k * k;
+    (l2 > 0.0 && (k != 0.0 || to != DVec2::ZERO)).then(|| to * l2.sqrt() - to.perp() * k)
+}
+
+/// The range `(lo, hi)` ([`pseudo_angle`] units, `lo < hi`, less than a half turn apart) of
+/// the directions of the legs
+/// leaving `source` bending `turn` through the points `points` ([`sight`]); `None` when one
+/// has none or they do not fit in an open half turn. `dirs` is scratch.
+fn extent(source: Circle, turn: Turn, points: &[DVec2], dirs: &mut Vec<DVec2>) -> Option<(f64, f64)> {
+    dirs.clear();
+    for &p in points {
+        dirs.push(sight(source, turn, p)?);
+    }
+    let first = *dirs.first()?;
+    let (mut lo, mut hi) = (first, first);
+    for &d in dirs.iter() {
+        if lo.perp_dot(d) < 0.0 {
+            lo = d;
+        }
+        if hi.perp_dot(d) > 0.0 {
+            hi = d;
         }
     }
+    let fits = lo.perp_dot(hi) > 0.0 && dirs.iter().all(|&d| lo.perp_dot(d) >= 0.0 && d.perp_dot(hi) >= 0.0);
+    if !fits {
+        return None;
+    }
+    let (a, b) = (pseudo_angle(lo), pseudo_angle(hi));
+    Some((a, if b < a { b + FULL_TURN } else { b }))
+}
+
+/// A convex polygon inside grown obstacle `blocker`'s interior as the clearance tests count it
+/// (closer than `r − ε` to the part), written to `out`: for a polygon, its edges moved out by
+/// `r − 2ε` with each corner's arc replaced by three points on it (for `r ≤ 2ε`, the polygon
+/// itself moved in by what that lacks). `false` for a disc, or when nothing is left.
+fn stand_in(blocker: &Blocker, r: f64, eps: f64, out: &mut Vec<DVec2>) -> bool {
+    out.clear();
+    let Blocker::Polygon { vertices, normals } = blocker else { return false };
+    let n = vertices.len();
+    let reach = r - 2.0 * eps - 1e-9 * r;
+    if reach > 0.0 {
+        for k in 0..n {
+            let (a, b) = (normals[(k + n - 1) % n], normals[k]);
+            let mid = (a + b).normalize_or(b);
+            out.extend([vertices[k] + a * reach, vertices[k] + mid * reach, vertices[k] + b * reach]);
+        }
+        return true;
+    }
+    // Move the edges in; give up when an edge would turn over.
+    for k in 0..n {
+        let (a, b) = (normals[(k + n - 1) % n], normals[k]);
+        let c = 1.0 + a.dot(b);
+        if !(c > 1e-9) {
+            return false;
+        }
+        out.push(vertices[k] + (a + b) * (reach / c));
+    }
+    (0..n).all(|k| (out[(k + 1) % n] - out[k]).dot(vertices[(k + 1) % n] - vertices[k]) > 0.0)
 }
 
 /// The directions from one point known to be blocked beyond some distance: a union of open
-/// angular intervals, kept sorted and disjoint, over angles in `[-π, π]` (an interval across
+/// angular intervals, kept sorted and disjoint, over directions in [`pseudo_angle`] units, `[-2, 2]` (an interval across
 /// the seam is split, each piece running past it so the seam itself counts as covered).
 #[derive(Debug, Default)]
 struct Shade {
@@ -217,12 +576,12 @@ struct Shade {
 
 impl Shade {
     fn add(&mut self, lo: f64, hi: f64) {
-        // Bring `lo` into [-π, π).
-        let shift = ((lo + PI) / TAU).floor() * TAU;
+        // Bring `lo` into [-2, 2).
+        let shift = ((lo + HALF) / FULL_TURN).floor() * FULL_TURN;
         let (lo, hi) = (lo - shift, hi - shift);
-        if hi > PI {
-            self.insert(lo, PI + 1.0);
-            self.insert(-PI - 1.0, hi - TAU);
+        if hi > HALF {
+            self.insert(lo, HALF + 1.0);
+            self.insert(-HALF - 1.0, hi - FULL_TURN);
         } else {
             self.insert(lo, hi);
         }
@@ -240,258 +599,26 @@ impl Shade {
         self.intervals.splice(at..end, [(lo, hi)]);
     }
 
-    /// Whether the direction `theta` (radians in `[-π, π]`) is inside the shade.
+    /// Whether the direction `theta` (in `[-2, 2]`) is inside the shade.
     fn covers(&self, theta: f64) -> bool {
         let at = self.intervals.partition_point(|&(_, h)| h <= theta);
         self.intervals.get(at).is_some_and(|&(lo, _)| lo < theta)
     }
 
-    /// Whether every direction of the closed range `[lo, hi]` (radians, `hi - lo < π`) is
-    /// inside the shade.
+    /// Whether every direction of the closed range `[lo, hi]` (`hi - lo` less than a half
+    /// turn) is inside the shade.
     fn covers_range(&self, lo: f64, hi: f64) -> bool {
-        let shift = ((lo + PI) / TAU).floor() * TAU;
+        let shift = ((lo + HALF) / FULL_TURN).floor() * FULL_TURN;
         let (lo, hi) = (lo - shift, hi - shift);
         let inside = |lo: f64, hi: f64| {
             let at = self.intervals.partition_point(|&(_, h)| h <= lo);
             self.intervals.get(at).is_some_and(|&(l, h)| l < lo && hi < h)
         };
-        if hi > PI { inside(lo, PI) && inside(-PI, hi - TAU) } else { inside(lo, hi) }
+        if hi > HALF { inside(lo, HALF) && inside(-HALF, hi - FULL_TURN) } else { inside(lo, hi) }
     }
 
     /// Whether every direction is shaded.
     fn full(&self) -> bool {
-        matches!(self.intervals.as_slice(), [(lo, hi)] if *lo < -PI && *hi > PI)
-    }
-}
-
-/// An occluder waiting until the search radius passes its far distance.
-#[derive(Debug, Clone, Copy)]
-struct Pending {
-    far: f64,
-    lo: f64,
-    hi: f64,
-}
-
-impl Graph {
-    /// Builds the nodes; `None` when an approximation polygon cannot be built (coordinates out
-    /// of the supported range).
-    pub(crate) fn build(clearance: &Clearance, radius: f64, arc_segments: usize) -> Option<Graph> {
-        let mut scratch = Vec::new();
-        let mut hulls = Vec::new();
-        let mut nodes = Vec::new();
-        let mut hull_of = Vec::new();
-        let mut stick_out = 0.0f64;
-        for (h, blocker) in clearance.blockers().iter().enumerate() {
-            let vertices = approximation(blocker, radius, arc_segments)?;
-            let n = vertices.len();
-            let mut ids = vec![None; n];
-            for k in 0..n {
-                let pos = vertices[k];
-                if !clearance.point_free(pos, Some(h), &mut scratch) {
-                    continue;
-                }
-                let prev = vertices[(k + n - 1) % n];
-                let next = vertices[(k + 1) % n];
-                let (e_in, e_out) = (pos - prev, next - pos);
-                let turn = e_in.perp_dot(e_out).atan2(e_in.dot(e_out)).clamp(0.0, PI);
-                ids[k] = Some(nodes.len());
-                hull_of.push(h);
-                let reach2 = e_in.length_squared().max(e_out.length_squared());
-                nodes.push(Node { pos, prev, next, heading_in: e_in.y.atan2(e_in.x), turn, reach2 });
-            }
-            let aabb = clearance.grown_aabb(h);
-            if let Some(b) = aabb {
-                stick_out = vertices.iter().map(|&v| b.distance(v)).fold(stick_out, f64::max);
-            }
-            let center = aabb.map_or(vertices[0], |b| b.center());
-            let bound = vertices.iter().map(|v| v.distance(center)).fold(0.0, f64::max) * (1.0 + 1e-9);
-            hulls.push(Hull { vertices, nodes: ids, center, bound });
-        }
-        let (r, eps) = clearance.radius_and_tolerance();
-        let occluders = clearance.blockers().iter().map(|b| Occluder::of(b, r, eps)).collect();
-        // Rounding slack on top of the measured amount.
-        let stick_out = stick_out * (1.0 + 1e-6) + 1e-9;
-        Some(Graph { hulls, nodes, hull_of, occluders, stick_out })
-    }
-
-    /// Calls `visit(node)` for every node that might be seen from `p` and passes
-    /// `admit(node)`: nodes behind a nearer obstacle are left out (with `cull`; without it,
-    /// every node is visited). Hulls come nearest first; `wanted(index, hull)` may reject a
-    /// hull before its nodes are looked at, and `admit`, a cheap test, rejects a node before
-    /// the shade is.
-    fn candidates(
-        &self,
-        clearance: &Clearance,
-        p: DVec2,
-        cull: bool,
-        mut wanted: impl FnMut(usize, &Hull) -> bool,
-        admit: impl Fn(usize) -> bool,
-        mut visit: impl FnMut(usize),
-    ) {
-        let mut shade = Shade::default();
-        let mut pending: Vec<Pending> = Vec::new();
-        clearance.visit_nearest(p, |h, box_dist| {
-            if cull {
-                // Every node of this and later hulls lies at least this far from `p`.
-                let reach = box_dist - self.stick_out;
-                let mut k = 0;
-                while k < pending.len() {
-                    if pending[k].far < reach {
-                        let q = pending.swap_remove(k);
-                        shade.add(q.lo, q.hi);
-                    } else {
-                        k += 1;
-                    }
-                }
-                if shade.full() {
-                    return false;
-                }
-                if let Some((lo, hi, far)) = self.occluders[h].as_ref().and_then(|o| o.shadow(p)) {
-                    pending.push(Pending { far, lo, hi });
-                }
-            }
-            let hull = &self.hulls[h];
-            if !wanted(h, hull) {
-                return true;
-            }
-            if cull && let Some(b) = clearance.grown_aabb(h) {
-                // The whole polygon lies in its box grown by the stick-out; skip it at once
-                // when that box is in the shade.
-                let b = b.expanded(self.stick_out);
-                if !b.contains_point(p) {
-                    let corners = [b.min, DVec2::new(b.max.x, b.min.y), b.max, DVec2::new(b.min.x, b.max.y)];
-                    let first = corners[0] - p;
-                    let base = first.y.atan2(first.x);
-                    let (mut lo, mut hi) = (0.0f64, 0.0f64);
-                    for c in corners {
-                        let to = c - p;
-                        let rel = (to.y.atan2(to.x) - base + PI).rem_euclid(TAU) - PI;
-                        lo = lo.min(rel);
-                        hi = hi.max(rel);
-                    }
-                    if hi - lo < PI && shade.covers_range(base + lo, base + hi) {
-                        return true;
-                    }
-                }
-            }
-            for &v in hull.nodes.iter().flatten() {
-                if !admit(v) {
-                    continue;
-                }
-                let to = self.nodes[v].pos - p;
-                if !cull || !shade.covers(to.y.atan2(to.x)) {
-                    visit(v);
-                }
-            }
-            true
-        });
-    }
-
-    /// The neighbours of node `u` with edge lengths in metres: the next vertices along its own
-    /// polygon and the vertices of other polygons joined by a clear bitangent segment.
-    pub(crate) fn neighbours(&self, clearance: &Clearance, u: usize, cull: bool, out: &mut Vec<(usize, f64)>) {
-        out.clear();
-        let node = &self.nodes[u];
-        let pu = node.pos;
-        let h = self.hull_of[u];
-        let hull = &self.hulls[h];
-        let n = hull.vertices.len();
-        if let Some(k) = hull.nodes.iter().position(|&x| x == Some(u)) {
-            for w in [(k + 1) % n, (k + n - 1) % n] {
-                if let Some(v) = hull.nodes[w]
-                    && v != u
-                    && clearance.segment_clear(pu, self.nodes[v].pos)
-                {
-                    out.push((v, pu.distance(self.nodes[v].pos)));
-                }
-            }
-        }
-        self.candidates(
-            clearance,
-            pu,
-            cull,
-            |k, other| k != h && node.may_support_towards(other.center, other.bound),
-            |v| node.supports(self.nodes[v].pos) && self.nodes[v].supports(pu),
-            |v| {
-                let pv = self.nodes[v].pos;
-                if clearance.segment_clear(pu, pv) {
-                    out.push((v, pu.distance(pv)));
-                }
-            },
-        );
-        out.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        out.dedup_by_key(|x| x.0);
-    }
-
-    /// Whether node `u` joins the free point `p` by a clear segment along a line supporting
-    /// the node's polygon (any vertex of a polygon whose approximation contains `p`).
-    pub(crate) fn joins(&self, clearance: &Clearance, u: usize, p: DVec2) -> bool {
-        self.may_join(u, p) && clearance.segment_clear(p, self.nodes[u].pos)
-    }
-
-    /// The cheap half of [`joins`](Self::joins): the line supports the node's polygon, or the
-    /// polygon contains `p`.
-    fn may_join(&self, u: usize, p: DVec2) -> bool {
-        self.nodes[u].supports(p) || self.hulls[self.hull_of[u]].contains(p)
-    }
-
-    /// Nodes that a free point `p` can see along a line supporting the node's polygon (any
-    /// vertex of a polygon whose approximation contains `p`), with distances in metres,
-    /// ascending by node.
-    pub(crate) fn endpoint_edges(&self, clearance: &Clearance, p: DVec2, cull: bool) -> Vec<(usize, f64)> {
-        let mut out = Vec::new();
-        self.candidates(
-            clearance,
-            p,
-            cull,
-            |_, _| true,
-            |v| self.may_join(v, p),
-            |v| {
-                if clearance.segment_clear(p, self.nodes[v].pos) {
-                    out.push((v, p.distance(self.nodes[v].pos)));
-                }
-            },
-        );
-        out.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        out
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn node_at_corner() -> Node {
-        // Corner of a counter-clockwise square at (1, 1): incoming edge heads +y, outgoing -x.
-        let pos = DVec2::new(1.0, 1.0);
-        let prev = DVec2::new(1.0, 0.0);
-        let next = DVec2::new(0.0, 1.0);
-        Node { pos, prev, next, heading_in: PI / 2.0, turn: PI / 2.0, reach2: 1.0 }
-    }
-
-    #[test]
-    fn supporting_lines() {
-        let n = node_at_corner();
-        // The diagonal through the corner cuts the square.
-        assert!(!n.supports(DVec2::new(3.0, 3.0)));
-        assert!(!n.supports(DVec2::new(-3.0, -3.0)));
-        assert!(n.supports(DVec2::new(3.0, -1.0)));
-        assert!(n.supports(DVec2::new(1.0, 5.0)));
-        assert!(!n.supports(DVec2::new(0.0, 0.5)));
-        assert!(n.supports(DVec2::new(-1.0, 3.0)));
-    }
-
-    #[test]
-    fn wedge_filter_agrees_with_support() {
-        let n = node_at_corner();
-        for i in 0..72 {
-            let dir = DVec2::from_angle(TAU * i as f64 / 72.0);
-            let far = n.pos + dir * 10.0;
-            if n.supports(far) {
-                assert!(n.may_support_towards(far, 0.01), "{i}");
-            }
-        }
-        assert!(!n.may_support_towards(DVec2::new(-10.0, -9.0), 0.5));
-        assert!(n.may_support_towards(DVec2::new(1.2, 1.2), 0.5));
+        matches!(self.intervals.as_slice(), [(lo, hi)] if *lo < -HALF && *hi > HALF)
     }
 }
