@@ -50,8 +50,8 @@ use glam::DVec2;
 use rhai::{Array, Dynamic, EvalAltResult};
 
 use crate::diagnostic::SourceError;
-use crate::scenario::{Scenario, WorldBudget};
 use crate::scenario::crowd::{Crowd, CrowdAgent, FlowKind, Goal, GoalKind};
+use crate::scenario::{Scenario, WorldBudget};
 use crate::world::obstacle::DEFAULT_Z;
 use crate::world::terrain::{FeatureKind, TerrainFeature};
 use crate::world::{Obstacle, ObstacleShape, Pose, Task, Terrain};
