@@ -265,6 +265,8 @@ pub struct Episode {
     /// Seconds the steps took (the optimum and the record left out), when the run lends a
     /// stopwatch ([`StepParameters::stopwatch`]): the figure behind a run's stepping rate.
     pub stepping_s: Option<f64>,
+    /// Why the episode failed, in words ([`Simulation::failure`]); `None` for a clean success.
+    pub failure: Option<String>,
 }
 
 /// Runs task `task_index` of `scenario` (in `world`, the scenario's world) to completion.
@@ -355,7 +357,7 @@ pub fn run_episode_with(
         refusal: agent.refusal.clone(),
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
-    Episode { record, trail: agent.trail.clone(), motion, stepping_s }
+    Episode { record, trail: agent.trail.clone(), motion, stepping_s, failure: sim.failure(0) }
 }
 
 /// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,

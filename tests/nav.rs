@@ -218,3 +218,52 @@ fn experiment_scripts_compare_rule_sets() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("bad.rhai:2:"), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A failed episode says on stderr which it was (and in a folder run, which world) and why:
+/// here a disc walled in, which times out; the clean world of the same folder is not named.
+#[test]
+fn a_failed_episode_says_why_on_stderr() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("failure_reasons");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("a_open.txt"), "start 0 0\ngoal 3 0\n").unwrap();
+    let walls = "box 0 1.2 3 0.2\nbox 0 -1.2 3 0.2\nbox 1.4 0 0.2 2.6\nbox -1.4 0 0.2 2.6\n";
+    std::fs::write(dir.join("b_walled.txt"), format!("start 0 0\ngoal 4 0\ntime_limit 3\n{walls}")).unwrap();
+    let o = strider(&["run", dir.to_str().unwrap(), "--body", "disc"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("episode 1 (b_walled): timed out after 3.05 s (limit 3.00 s), ")
+            && err.contains(" m from the goal circle"),
+        "{err}"
+    );
+    assert!(!err.contains("a_open"), "{err}");
+    assert!(err.contains("failed: 1 of 2 episodes"), "{err}");
+}
+
+/// The first step that ends overlapping something is kept, and the episode's failure names
+/// it: when, where, how deep and into which obstacle.
+#[test]
+fn a_collision_is_described_by_its_first_contact() {
+    use glam::DVec2;
+    use strider::sim::failure::Touched;
+    use strider::world::{Obstacle, ObstacleShape, Pose, Task, World};
+    let wall = ObstacleShape::Box { center: DVec2::new(0.2, 0.0), width: 0.2, height: 2.0, yaw: 0.0 };
+    let world = World::new(vec![Obstacle::build(wall, 0.0, 2.0).unwrap()]);
+    let mut sim = Simulation::new(world, StepParameters::default());
+    // Started overlapping the wall (a scenario would refuse this; the simulation measures it).
+    let task = Task::new(Pose { position: DVec2::ZERO, yaw: std::f64::consts::PI }, DVec2::new(-5.0, 0.0));
+    sim.add_agent(task, &controller());
+    sim.step();
+    let contact = sim.agents[0].metrics.first_collision.expect("the first step overlaps the wall");
+    assert_eq!(contact.with, Touched::Obstacle(0));
+    assert!((contact.time_s - 0.05).abs() < 1e-12 && contact.depth_m > 0.0, "{contact:?}");
+    while !sim.all_done() {
+        sim.step();
+    }
+    let why = sim.failure(0).expect("a collision is a failure");
+    assert!(
+        why.contains("first at 0.05 s") && why.contains("into the obstacle at (0.20, 0.00), 0.20 × 2.00 m"),
+        "{why}"
+    );
+}

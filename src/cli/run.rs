@@ -34,8 +34,8 @@ pub struct MapArgs {
     pub seed: u64,
 }
 
-/// Most refused episodes whose reasons `strider run` prints.
-const MAX_REFUSALS_SHOWN: usize = 5;
+/// Most failed episodes whose reasons `strider run` prints.
+const MAX_FAILURES_SHOWN: usize = 5;
 
 /// `strider run` options.
 #[derive(Debug, Args)]
@@ -186,8 +186,18 @@ pub fn run(args: RunArgs) -> Outcome {
     };
     let write_failure: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
     let stepping: std::sync::Mutex<f64> = std::sync::Mutex::new(0.0);
+    // The first failed episodes (by number) with why they failed, and how many failed.
+    let failures: std::sync::Mutex<(Vec<(usize, String)>, usize)> = std::sync::Mutex::new((Vec::new(), 0));
     let each = |e: &experiment::Episode| {
         *stepping.lock().unwrap_or_else(|p| p.into_inner()) += e.stepping_s.unwrap_or(0.0);
+        if let Some(why) = &e.failure {
+            let line = format!("episode {} ({}): {why}", e.record.episode, e.record.scenario);
+            let (first, count) = &mut *failures.lock().unwrap_or_else(|p| p.into_inner());
+            first.push((e.record.episode, line));
+            first.sort();
+            first.truncate(MAX_FAILURES_SHOWN);
+            *count += 1;
+        }
         let Some((dir, skeleton, frame_time)) = &motion_out else { return };
         let path = dir.join(format!("episode_{}.bvh", e.record.episode));
         let clip =
@@ -242,12 +252,12 @@ pub fn run(args: RunArgs) -> Outcome {
     write_records(&mut out, args.format, &summary, &records)?;
     out.flush()?;
     let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
-    let refused: Vec<_> = records.iter().filter_map(|r| Some((r.episode, r.refusal.as_deref()?))).collect();
-    for (episode, why) in refused.iter().take(MAX_REFUSALS_SHOWN) {
-        eprintln!("episode {episode}: {why}");
+    let (first, count) = failures.into_inner().unwrap_or_else(|p| p.into_inner());
+    for (_, line) in &first {
+        eprintln!("{line}");
     }
-    if refused.len() > MAX_REFUSALS_SHOWN {
-        eprintln!("… and {} more episodes with no way round", refused.len() - MAX_REFUSALS_SHOWN);
+    if count > first.len() {
+        eprintln!("… and {} more failed episodes", count - first.len());
     }
     if failed > 0 {
         return Err(Failure::Task(anyhow!("{failed} of {} episodes did not reach the goal cleanly", records.len())));
