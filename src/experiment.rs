@@ -325,7 +325,7 @@ pub fn run_episode_with(
         seed,
         reached,
         collisions: m.collisions + upper.map_or(0, |u| u.collisions),
-        time_s: m.time_s,
+        time_s: on_step(m.time_s, params.dt_s),
         path_length_m: m.path_length_m,
         optimal_length_m: optimal,
         path_ratio: optimal.filter(|o| reached && *o > 0.0).map(|o| m.path_length_m / o),
@@ -358,6 +358,17 @@ pub fn run_episode_with(
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
     Episode { record, trail: agent.trail.clone(), motion, stepping_s, failure: sim.failure(0) }
+}
+
+/// A simulated time `t` that is a whole number of steps of `dt` (seconds), as that number
+/// times the step: the sum of the steps gathers rounding error in its last digits (16.6 s
+/// summed from 0.05 s steps is 16.6000000000001), which records should not show. Rounded to
+/// the nanosecond, so any step down to that is kept.
+pub fn on_step(t: f64, dt: f64) -> f64 {
+    if !(t.is_finite() && dt.is_finite() && dt > 0.0) {
+        return t;
+    }
+    ((t / dt).round() * dt * 1e9).round() / 1e9
 }
 
 /// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,
@@ -568,5 +579,23 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
             let t: f64 = records.iter().filter(|r| r.transitions.is_some()).map(|r| r.time_s).sum();
             (t > 0.0).then(|| n as f64 / t)
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::on_step;
+
+    #[test]
+    fn times_are_whole_steps() {
+        let mut t = 0.0;
+        for _ in 0..332 {
+            t += 0.05;
+        }
+        assert_ne!(t, 16.6);
+        assert_eq!(on_step(t, 0.05), 16.6);
+        assert_eq!(on_step(0.0, 0.05), 0.0);
+        assert_eq!(on_step(63.24999999999854, 0.05), 63.25);
+        assert_eq!(on_step(1.0 / 3.0, 1.0 / 3.0), 0.333333333);
     }
 }

@@ -130,6 +130,9 @@ fn run_command_prints_json_and_csv() {
         assert!(!e[key].is_null(), "{key} missing in {e}");
     }
     assert_eq!(doc["summary"]["success_rate"], 1.0);
+    // Times are whole steps of 0.05 s, written without the rounding error of their sum.
+    let t = e["time_s"].as_f64().unwrap();
+    assert_eq!(t, (t * 20.0).round() / 20.0, "{e}");
     let a = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv"]);
     let b = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv", "--threads", "1"]);
     assert_eq!(a.stdout, b.stdout);
