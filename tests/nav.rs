@@ -270,3 +270,52 @@ fn a_collision_is_described_by_its_first_contact() {
         "{why}"
     );
 }
+
+/// Every command's help speaks of the papers by name (no internal numbers), `run --help` names
+/// every kind of world it takes, `tui --help` lists the keys and `experiment --help` the
+/// functions a script can call.
+#[test]
+fn help_names_what_a_user_can_give() {
+    let commands: &[&[&str]] = &[
+        &[],
+        &["run"],
+        &["merge"],
+        &["gen"],
+        &["render"],
+        &["snapshot"],
+        &["experiment"],
+        &["tui"],
+        &["db", "build"],
+        &["db", "info"],
+        &["db", "track"],
+        &["db", "export"],
+        &["train"],
+        &["reproduce", "table1"],
+        &["steps"],
+        &["fuzzy", "eval"],
+        &["fuzzy", "export"],
+        &["fuzzy", "plot"],
+        &["fuzzy", "bench"],
+    ];
+    let help = |command: &[&str]| {
+        let mut args = command.to_vec();
+        args.push("--help");
+        let o = strider(&args);
+        assert!(o.status.success(), "{args:?}");
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    for command in commands {
+        let text = help(command).to_lowercase();
+        assert!(!text.contains("seed 00") && !text.contains("seed paper"), "{command:?}: {text}");
+    }
+    let run = help(&["run"]);
+    for form in ["world_N.world", "path_files/", "folder of worlds", "movingai:NAME", "barn:NAME", "$STRIDER_DATA"] {
+        assert!(run.contains(form), "run --help does not name {form}: {run}");
+    }
+    let tui = help(&["tui"]);
+    assert!(tui.contains("random:KIND") && tui.contains("Keys") && tui.contains("Ctrl-C"), "{tui}");
+    let experiment = help(&["experiment"]);
+    for f in ["load_map(", "run_episode(", "run_batch(", "snapshot(", "table("] {
+        assert!(experiment.contains(f), "{experiment}");
+    }
+}

@@ -42,14 +42,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub poses: bool,
     /// Also write `side.png`: the side view of the character's legs on the ground profile
-    /// (seed 002 Fig 6, Fig 8) through every step it took, unrolled along its path, on a map
+    /// (the digital-actor paper's Fig 6 and Fig 8) through every step it took, unrolled along its path, on a map
     /// with uneven terrain; and `upper_side.png`, a strip of the character seen from its left
-    /// where its upper body bent or moved its arms for obstacles (seed 002 Fig 9), on a map
+    /// where its upper body bent or moved its arms for obstacles (the digital-actor paper's Fig 9), on a map
     /// with obstacles the upper body can touch. Needs the animated character.
     #[arg(long)]
     pub side: bool,
     /// Also write `upper_front.png`: a strip of the character seen from ahead where its upper
-    /// body twisted or moved its arms for obstacles (seed 002 Fig 9). Needs the animated
+    /// body twisted or moved its arms for obstacles (the digital-actor paper's Fig 9). Needs the animated
     /// character and a map with obstacles the upper body can touch.
     #[arg(long)]
     pub front: bool,

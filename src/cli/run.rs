@@ -20,10 +20,15 @@ use crate::sim::{LayeredController, StepParameters};
 /// Options shared by `run` and `render`.
 #[derive(Debug, Args)]
 pub struct MapArgs {
-    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:KIND`
-    /// (sparse, semi, cluttered, rooms, maze, grid) for seeded random worlds.
+    /// The world: a `.rhai` map, a plain text world (`.txt`), a MovingAI `.map` (each line of
+    /// its scenario file one episode), a BARN challenge `world_N.world` (its reference path
+    /// `path_N.npy` beside it or in `path_files/`), a folder of worlds (`.world`, `.txt`,
+    /// `.rhai`; one batch, in name order), benchmark data `movingai:NAME` or `barn:NAME` (read
+    /// from the folder $STRIDER_DATA, by default ./data; `barn:` runs every BARN world), or
+    /// `random:KIND` (sparse, semi, cluttered, rooms, maze, grid) for seeded random worlds.
     pub map: String,
-    /// MovingAI scenario file (each line one episode); default: MAP.scen if it exists.
+    /// MovingAI scenario file (each line one episode; `movingai:NAME` for benchmark data);
+    /// default: MAP.scen.
     #[arg(long)]
     pub scen: Option<PathBuf>,
     /// Navigation rules (a `.rhai` script building the layered network); default: built in.
@@ -361,7 +366,7 @@ pub fn default_scenario() -> Outcome {
     let mut out = BufWriter::new(io::stdout().lock());
     writeln!(
         out,
-        "strider: layered fuzzy navigation with the RL-animated character on the built-in '{}' world (seed 000 Fig 2 b)",
+        "strider: layered fuzzy navigation with the RL-animated character on the built-in '{}' world (Fig 2 b of the fuzzy + RL paper)",
         r.scenario
     )?;
     writeln!(out, "  reached the goal:  {}", if r.reached { "yes" } else { "no" })?;
