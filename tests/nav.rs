@@ -171,6 +171,31 @@ fn render_writes_frames() {
     assert_eq!((img.width(), img.height()), (200, 150));
 }
 
+/// `render --gif` writes the whole episode as one looping animation: a frame every `--every`
+/// steps and the final one held, all the same size and showing the same region.
+#[test]
+fn render_writes_an_animated_gif() {
+    use image::AnimationDecoder;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("render_gif");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let gif = dir.join("u_trap.gif");
+    let o = strider(&["render", "maps/u_trap.rhai", "--gif", gif.to_str().unwrap(), "--size", "320x320"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = std::io::BufReader::new(std::fs::File::open(&gif).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file).unwrap().into_frames().collect_frames().unwrap();
+    // 16.6 s at 20 steps of 0.05 s a frame: 17 frames and the final one.
+    assert_eq!(frames.len(), 18);
+    assert!(frames.iter().all(|f| f.buffer().dimensions() == (320, 320)));
+    assert_eq!(frames[0].delay().numer_denom_ms(), (250, 1));
+    assert_eq!(frames[17].delay().numer_denom_ms(), (2000, 1));
+    assert_ne!(frames[0].buffer(), frames[17].buffer());
+    frames[17].buffer().save(dir.join("last.png")).unwrap();
+    // Only a GIF asked for: no frame directory needed; a GIF of one frame is refused.
+    let o = strider(&["render", "maps/u_trap.rhai", "--gif", gif.to_str().unwrap(), "--every", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
 #[test]
 fn bad_maps_and_rules_are_located_errors() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_maps");
