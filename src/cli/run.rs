@@ -387,7 +387,10 @@ pub fn default_scenario() -> Outcome {
             "  animated character: foot skating {skate:.3} cm/frame, transition cost {cost:.4}, tracking RMS {track:.3} m"
         )?;
     }
-    writeln!(out, "Watch it: strider render maps/semi_cluttered.rhai --gif semi_cluttered.gif (or --out frames/ for PNGs)")?;
+    writeln!(
+        out,
+        "Watch it: strider render maps/semi_cluttered.rhai --gif semi_cluttered.gif (or --out frames/ for PNGs)"
+    )?;
     out.flush()?;
     if r.reached && r.collisions == 0 { Ok(()) } else { Err(Failure::Task(anyhow!("the default scenario failed"))) }
 }
