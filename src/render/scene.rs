@@ -542,7 +542,9 @@ pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
         }
     }
     d.scale_bar();
-    d.caption(scene.caption.as_deref(), scene.outcome.as_ref(), legend.is_some());
+    if scene.caption.is_some() || scene.outcome.is_some() {
+        d.caption(scene.caption.as_deref(), scene.outcome.as_ref(), legend.is_some());
+    }
     if let Some(legend) = &legend {
         d.legend(legend, th);
     }
@@ -872,7 +874,9 @@ impl Drawer<'_> {
         let pad = (ts.y * 0.75).max(4.0);
         let centred = |width: f64| if width + 2.0 * pad <= w { ((w - width) / 2.0).round() } else { pad.round() };
         let x = centred(ts.x);
-        self.p.text(DVec2::new(x, pad.round()), caption, palette::TEXT);
+        if !caption.is_empty() {
+            self.p.text(DVec2::new(x, pad.round()), caption, palette::TEXT);
+        }
         let Some(v) = outcome else { return };
         let color = if v.success { palette::SUCCESS } else { palette::FAILURE };
         let at = if own_line {
