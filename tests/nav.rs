@@ -237,7 +237,20 @@ fn experiment_scripts_compare_rule_sets() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(o.stdout.is_empty(), "print goes to the log, not stdout");
     let text = String::from_utf8_lossy(&o.stderr);
-    assert!(text.contains("default") && text.contains("cautious on u_trap: reached true"), "{text}");
+    // The script prints its tables with `table`: aligned columns, rounded numbers.
+    assert!(text.contains("rules on u_trap  reached  time (s)  path ratio"), "{text}");
+    assert!(text.contains("cautious         true"), "{text}");
+    let rows: Vec<&str> = text.lines().skip_while(|l| !l.contains("median ratio")).take(3).collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    assert!(rows.iter().all(|r| r.chars().count() == rows[0].chars().count()), "the columns align: {text}");
+    assert!(
+        rows[1..].iter().all(|r| r
+            .split_whitespace()
+            .skip(2)
+            .take(3)
+            .all(|x| x.split('.').nth(1).is_some_and(|d| d.len() == 3))),
+        "{text}"
+    );
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("experiments");
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.rhai");
