@@ -18,7 +18,7 @@ pub mod tui;
 use std::io::{self, IsTerminal, Write};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 use crate::load::Failure;
 
@@ -51,6 +51,20 @@ pub enum Command {
     /// Compare an episode's frames and trajectory with golden snapshots (or write them).
     Snapshot(snapshot::SnapshotArgs),
     /// Run an experiment script (maps, rule sets, episodes, metrics).
+    ///
+    /// An experiment is a Rhai script that can also call:
+    ///   load_map(path)                                 a map file, as for `run` (not a folder or random:KIND)
+    ///   random_world(kind, seed)                       a seeded world: sparse, semi, cluttered, rooms, maze, grid
+    ///   default_rules(), load_rules(path)              navigation rules: an array of fuzzy engines, edited with
+    ///                                                  e.variable(name).set_term(…), e.block(name).rule(…), …
+    ///   run_episode(map, rules, task, seed)            one episode: a map of the figures `run` prints for it
+    ///   run_batch(kind_or_map, episodes, seed, rules)  a batch's summary: success_rate, median_path_ratio, …
+    ///   snapshot(map, rules, seed, dir[, options])     as `strider snapshot`; passed, frames, report, …
+    ///   reproduce_table1(environments, options, rules) as `strider reproduce table1`
+    ///   table(rows[, decimals])                        rows of cells as aligned columns, numbers rounded
+    /// `print` and `debug` write to stderr as the script runs, each line after the script's name.
+    /// Examples: scripts/compare_rules.rhai, scripts/reproduce_table1.rhai.
+    #[command(verbatim_doc_comment)]
     Experiment(experiment::ExperimentArgs),
     /// Watch, step and drive a navigation run live in the terminal.
     Tui(tui::TuiArgs),
@@ -62,7 +76,7 @@ pub enum Command {
     },
     /// Train the RL animation controller's policy (SARSA) on a database.
     Train(anim::TrainArgs),
-    /// Reproduce the papers' experiments (Table 1 of seed 000).
+    /// Reproduce the fuzzy + RL paper's experiment (its Table 1).
     Reproduce {
         /// The experiment.
         #[command(subcommand)]
@@ -74,7 +88,8 @@ pub enum Command {
 
 /// Runs the command line and returns the process exit code.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::command().mut_subcommand("tui", |c| c.after_help(tui_keys())).get_matches();
+    let cli = Cli::from_arg_matches(&cli).unwrap_or_else(|e| e.exit());
     let result = match cli.command {
         None if io::stdout().is_terminal() && io::stdin().is_terminal() => tui::default_scenario(),
         None => run::default_scenario(),
@@ -103,6 +118,14 @@ pub fn main() -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+/// The live view's keys, for `strider tui --help` (the list its `?` overlay shows).
+fn tui_keys() -> String {
+    let width = crate::tui::ui::HELP.iter().map(|(k, _)| k.chars().count()).max().unwrap_or(0);
+    let keys: Vec<String> =
+        crate::tui::ui::HELP.iter().map(|(k, what)| format!("  {k:<width$}  {what}").trim_end().to_string()).collect();
+    format!("Keys (also shown by `?` in the view):\n{}", keys.join("\n"))
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {

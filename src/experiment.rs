@@ -277,6 +277,8 @@ pub struct Episode {
     /// Seconds the steps took (the optimum and the record left out), when the run lends a
     /// stopwatch ([`StepParameters::stopwatch`]): the figure behind a run's stepping rate.
     pub stepping_s: Option<f64>,
+    /// Why the episode failed, in words ([`Simulation::failure`]); `None` for a clean success.
+    pub failure: Option<String>,
 }
 
 /// Whether a batch works out each episode's reference optimum (`strider run --optimum`).
@@ -373,7 +375,7 @@ fn play(
         seed,
         reached,
         collisions: m.collisions + upper.map_or(0, |u| u.collisions),
-        time_s: m.time_s,
+        time_s: on_step(m.time_s, params.dt_s),
         path_length_m: m.path_length_m,
         optimal_length_m: optimal,
         path_ratio: optimal.filter(|o| reached && *o > 0.0).map(|o| m.path_length_m / o),
@@ -405,7 +407,18 @@ fn play(
         refusal: agent.refusal.clone(),
     };
     let motion = animated.and_then(|a| a.motion()).map_or_else(Vec::new, <[_]>::to_vec);
-    Episode { record, trail: agent.trail.clone(), motion, stepping_s }
+    Episode { record, trail: agent.trail.clone(), motion, stepping_s, failure: sim.failure(0) }
+}
+
+/// A simulated time `t` that is a whole number of steps of `dt` (seconds), as that number
+/// times the step: the sum of the steps gathers rounding error in its last digits (16.6 s
+/// summed from 0.05 s steps is 16.6000000000001), which records should not show. Rounded to
+/// the nanosecond, so any step down to that is kept.
+pub fn on_step(t: f64, dt: f64) -> f64 {
+    if !(t.is_finite() && dt.is_finite() && dt > 0.0) {
+        return t;
+    }
+    ((t / dt).round() * dt * 1e9).round() / 1e9
 }
 
 /// The walking speed of a run, m/s: the top speed the planner commands (the disc's limit,
@@ -668,5 +681,23 @@ pub fn summarize(records: &[EpisodeRecord]) -> Summary {
             let t: f64 = records.iter().filter(|r| r.transitions.is_some()).map(|r| r.time_s).sum();
             (t > 0.0).then(|| n as f64 / t)
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::on_step;
+
+    #[test]
+    fn times_are_whole_steps() {
+        let mut t = 0.0;
+        for _ in 0..332 {
+            t += 0.05;
+        }
+        assert_ne!(t, 16.6);
+        assert_eq!(on_step(t, 0.05), 16.6);
+        assert_eq!(on_step(0.0, 0.05), 0.0);
+        assert_eq!(on_step(63.24999999999854, 0.05), 63.25);
+        assert_eq!(on_step(1.0 / 3.0, 1.0 / 3.0), 0.333333333);
     }
 }

@@ -68,7 +68,7 @@ pub type Outcome = Result<(), Failure>;
 /// Which world a command runs.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MapSpec {
-    /// The built-in default scenario (seed 000 Fig 2 b).
+    /// The built-in default scenario (Fig 2 b of the fuzzy + RL paper).
     BuiltIn,
     /// A map file: `.rhai`, `.txt`/`.world`, or a MovingAI `.map` with its scenario file
     /// (`scen`, default `FILE.map.scen`).
@@ -82,15 +82,54 @@ pub enum MapSpec {
     Random(WorldKind),
 }
 
+/// The environment variable naming the folder of benchmark data (`movingai/`, `barn/`), which
+/// `movingai:NAME` and `barn:NAME` maps are read from.
+pub const DATA_ENV: &str = "STRIDER_DATA";
+
+/// The folder of benchmark data when [`DATA_ENV`] is not set (relative to the current one).
+pub const DEFAULT_DATA_DIR: &str = "data";
+
+/// The benchmark sets a map argument names by prefix (`SET:NAME`), each a folder of the data
+/// folder, with the extension a name without one gets.
+const DATA_SETS: [(&str, &str); 2] = [("movingai", "map"), ("barn", "world")];
+
+/// Where benchmark data named `SET:NAME` (`movingai:random512-20-0`, `barn:world_0`, `barn:`
+/// for the whole folder) lives: `NAME` in the folder `SET` of the data folder ([`DATA_ENV`], by
+/// default [`DEFAULT_DATA_DIR`]), with the set's extension when `NAME` has none and is no
+/// folder. `None` for an argument that names no set.
+pub fn data_path(arg: &str) -> Option<PathBuf> {
+    let (set, ext) = DATA_SETS.iter().find(|(set, _)| arg.strip_prefix(set).is_some_and(|r| r.starts_with(':')))?;
+    let name = &arg[set.len() + 1..];
+    let root = std::env::var_os(DATA_ENV)
+        .filter(|d| !d.is_empty())
+        .map_or_else(|| PathBuf::from(DEFAULT_DATA_DIR), PathBuf::from);
+    let path = root.join(set).join(name);
+    if name.is_empty() || path.is_dir() || path.extension().is_some() {
+        return Some(path);
+    }
+    Some(path.with_extension(ext))
+}
+
 impl MapSpec {
-    /// Reads a map argument: `random:KIND` or a path; `None` is the built-in scenario.
+    /// Reads a map argument: `random:KIND`, benchmark data `movingai:NAME` or `barn:NAME`
+    /// ([`data_path`]), or a path; `None` is the built-in scenario.
     pub fn parse(arg: Option<&str>) -> Result<MapSpec, SourceError> {
-        match arg {
-            None => Ok(MapSpec::BuiltIn),
-            Some(a) => match a.strip_prefix("random:") {
-                Some(k) => k.parse().map(MapSpec::Random).map_err(|e| SourceError::new(a, 0, 0, format!("{e}"))),
-                None => Ok(MapSpec::file(a)),
-            },
+        let Some(a) = arg else { return Ok(MapSpec::BuiltIn) };
+        if let Some(k) = a.strip_prefix("random:") {
+            return k.parse().map(MapSpec::Random).map_err(|e| SourceError::new(a, 0, 0, format!("{e}")));
+        }
+        match data_path(a) {
+            Some(path) if !path.exists() => Err(SourceError::new(
+                &path.display().to_string(),
+                0,
+                0,
+                format!(
+                    "no such file or folder: {a} names benchmark data, read from ${DATA_ENV} (./{DEFAULT_DATA_DIR} when \
+                     it is not set); the README's \"Benchmark data\" says where to fetch it"
+                ),
+            )),
+            Some(path) => Ok(MapSpec::file(path)),
+            None => Ok(MapSpec::file(a)),
         }
     }
 
@@ -99,8 +138,10 @@ impl MapSpec {
         MapSpec::File { path: path.into(), scen: None }
     }
 
-    /// The same map with a MovingAI scenario file given by hand (kept only for map files).
+    /// The same map with a MovingAI scenario file given by hand (kept only for map files; a
+    /// `movingai:NAME` scenario is benchmark data, [`data_path`]).
     pub fn with_scen(self, scen: Option<PathBuf>) -> MapSpec {
+        let scen = scen.map(|s| s.to_str().and_then(data_path).unwrap_or(s));
         match self {
             MapSpec::File { path, .. } => MapSpec::File { path, scen },
             other => other,
@@ -399,7 +440,7 @@ pub struct BodyArgs {
     #[arg(long, value_enum, default_value_t = TransitionArg::Crossfade)]
     pub transition: TransitionArg,
     /// The footstep planner on uneven terrain: `on` adapts every step to the ground, `off`
-    /// takes the database's nominal step, stopping before an invalid one (seed 002 Fig. 8).
+    /// takes the database's nominal step, stopping before an invalid one (the digital-actor paper's Fig 8).
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub planner: Switch,
 }

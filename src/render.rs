@@ -7,6 +7,7 @@
 //! bitmap font so output is identical on every machine.
 
 pub mod font;
+pub mod gif;
 pub mod plot;
 pub mod png;
 pub mod poses;

@@ -9,6 +9,7 @@
 pub mod animated;
 pub mod body;
 pub mod controller;
+pub mod failure;
 pub mod follow;
 pub mod footing;
 pub mod memory;
@@ -102,6 +103,8 @@ pub struct Metrics {
     pub steps: u32,
     /// Times boundary following started.
     pub follows: u32,
+    /// The first step that ended overlapping something: when, where and what.
+    pub first_collision: Option<failure::Contact>,
 }
 
 /// One agent: body, controller, task, what it sensed last, and its trail.
@@ -314,9 +317,7 @@ struct BodyWalls {
 
 /// Why `wall` is one for a body that ducks under `clear_under_m` and steps across `step_m`.
 fn wall_reason(wall: &crate::world::Obstacle, clear_under_m: f64, step_m: f64) -> String {
-    let b = wall.hull.aabb();
-    let (c, size) = ((b.min + b.max) / 2.0, b.max - b.min);
-    let at = format!("at ({:.2}, {:.2}), {:.2} × {:.2} m", c.x, c.y, size.x, size.y);
+    let at = failure::where_is(wall);
     if wall.z_min > 0.0 {
         format!(
             "the obstacle {at}, its underside {:.2} m up, is lower than the character can duck under ({clear_under_m:.2} m) \
@@ -424,6 +425,7 @@ impl Simulation {
                 stalled_steps: 0,
                 steps: 0,
                 follows: 0,
+                first_collision: None,
             },
             outcome: refusal.is_some().then_some(Outcome::Refused),
             refusal,
@@ -461,6 +463,32 @@ impl Simulation {
             reasons = bw.walls.iter().map(|(_, why)| why.as_str()).collect();
         }
         Some(format!("no way round for the character: {}", reasons.join("; ")))
+    }
+
+    /// Why agent `i`'s episode failed, in words ([`failure`]): refused (why), timed out (how
+    /// far from the goal) and collided (the first time: when, where, into what); `None` while
+    /// it runs, when it reached its goal without a collision, or when there is no agent `i`.
+    pub fn failure(&self, i: usize) -> Option<String> {
+        let a = self.agents.get(i)?;
+        let upper = a.body.animated().and_then(|b| b.upper_body()).map_or(0, |u| u.figures().collisions);
+        let mut why = Vec::new();
+        match a.outcome? {
+            Outcome::Refused => why.push(a.refusal.clone().unwrap_or_else(|| "refused".into())),
+            Outcome::TimedOut => why.push(failure::timed_out(
+                a.metrics.time_s,
+                a.task.time_limit_s,
+                a.body.pose().position,
+                &a.trail,
+                self.params.dt_s,
+                a.task.goal,
+                a.task.goal_radius,
+            )),
+            Outcome::Reached => {}
+        }
+        if a.metrics.collisions > 0 || upper > 0 {
+            why.push(failure::collided(a.metrics.collisions, a.metrics.first_collision.as_ref(), upper, &self.world));
+        }
+        (!why.is_empty()).then(|| why.join("; "))
     }
 
     /// True when every agent's episode is over.
@@ -599,7 +627,8 @@ impl Simulation {
             m.steps += 1;
             m.follows = agent.controller.follow_count();
             let p = agent.body.pose().position;
-            let gap = match agent.body.footprint() {
+            let footprint = agent.body.footprint();
+            let gap = match footprint {
                 side_on::Footprint::Capsule { a, b, radius } => {
                     let mut gap = world.segment_clearance(a, b, params.layout.range, scratch) - radius;
                     for &(c, r) in others.iter() {
@@ -618,6 +647,10 @@ impl Simulation {
             m.min_clearance_m = m.min_clearance_m.min(gap);
             if gap < -1e-9 {
                 m.collisions += 1;
+                if m.first_collision.is_none() {
+                    let with = failure::touched(world, footprint, others, i, scratch);
+                    m.first_collision = Some(failure::Contact { time_s: m.time_s, position: p, depth_m: -gap, with });
+                }
             }
             agent.trail.push(p);
             if p.distance(agent.task.goal) <= agent.task.goal_radius {

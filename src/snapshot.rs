@@ -37,9 +37,10 @@
 //! (Trigonometric functions come from the platform's math library; a machine whose library
 //! rounds a last bit differently could, rarely, steer a run elsewhere.)
 //!
-//! Side views (`--side`) need terrain or obstacles with a height profile to show; side views
-//! of the world are not drawn yet, so the flag adds a note to the report and writes nothing
-//! extra.
+//! With [`Settings::side`] (`--side`) the side views `strider render --side` draws are pinned
+//! too, as goldens beside the frames: `side.png` (the legs on the ground profile, on a map with
+//! terrain) and `upper_side.png` (the upper body among obstacles it can touch); a map with
+//! neither, or the disc, has none, and the report says so.
 
 pub mod pixels;
 pub mod trajectory;
@@ -57,10 +58,9 @@ use crate::geom::Aabb;
 use crate::load::{BodyArgs, Failure};
 use crate::render::png::render_png;
 use crate::render::scene::Scene;
-use crate::render::sim_view::scene_of;
+use crate::render::sim_view::{SideViews, scene_of};
 use crate::scenario::Scenario;
 use crate::sim::{AnimationHandle, Body, LayeredController, Simulation, StepParameters};
-use crate::world::obstacle::DEFAULT_Z;
 use crate::world::{Terrain, World};
 
 pub use pixels::{PixelDiff, Tolerance};
@@ -82,7 +82,8 @@ pub struct Settings {
     pub every: usize,
     /// Frame size in pixels, `(width, height)`; default 800×800.
     pub size: (u32, u32),
-    /// Ask for side views (none exist yet: the report says so); default off.
+    /// Pin the side views too (`side.png`, `upper_side.png`, where the map has them); default
+    /// off.
     pub side: bool,
     /// When frames match; default exact.
     pub tolerance: Tolerance,
@@ -305,6 +306,9 @@ impl fmt::Display for FrameResult {
                 write!(f, "the frame is {}x{}, the golden {}x{}", actual.0, actual.1, golden.0, golden.1)?
             }
             FrameStatus::NoGolden => write!(f, "no golden (this run drew more frames)")?,
+            FrameStatus::NotDrawn if SIDE_PICTURES.contains(&self.name.as_str()) => {
+                write!(f, "not drawn (a side view: the goldens were written with --side)")?
+            }
             FrameStatus::NotDrawn => write!(f, "not drawn (this run ended before this frame)")?,
         }
         let files: Vec<String> =
@@ -436,9 +440,10 @@ pub fn check(spec: &Spec, dir: impl AsRef<Path>) -> Result<Report, Error> {
     check_episode(&load(spec)?, &spec.settings, dir.as_ref())
 }
 
-/// What one run of the episode looks like: its frames and its trajectory.
+/// What one run of the episode looks like: its frames, side views and trajectory.
 struct Recording<'w> {
     frames: Vec<(String, Scene<'w>)>,
+    pictures: Vec<(String, Pixmap)>,
     samples: Vec<Sample>,
     reached: bool,
     time_s: f64,
@@ -446,15 +451,15 @@ struct Recording<'w> {
 }
 
 /// Runs `episode` in `world` (its scenario's world), keeping a scene every `every` steps, the
-/// final scene, and a sample at every step.
-fn record<'w>(episode: &Episode, world: &'w World, every: usize) -> Recording<'w> {
+/// final scene, a sample at every step and, with `side`, the side views.
+fn record<'w>(episode: &Episode, world: &'w World, every: usize, side: bool) -> Recording<'w> {
     let mut sim = Simulation::new(world.clone(), episode.params.clone());
     sim.add_agent(episode.scenario.tasks[episode.task], &episode.controller);
+    let mut side_views = side.then(|| SideViews::new(&sim));
     let name = &episode.scenario.name;
     let scene = |sim: &Simulation| -> Scene<'w> {
         let caption = format!("{name}  t = {:.2} s", sim.time_s);
-        let Scene { agents, goals, view, caption, .. } = scene_of(sim, Some(caption));
-        Scene { world, agents, goals, view, caption }
+        scene_of(sim, Some(caption)).in_world(world)
     };
     let sample = |sim: &Simulation, step: usize| {
         let a = &sim.agents[0];
@@ -475,14 +480,24 @@ fn record<'w>(episode: &Episode, world: &'w World, every: usize) -> Recording<'w
         if every > 0 && step.is_multiple_of(every) {
             frames.push((format!("frame_{step:06}.png"), scene(&sim)));
         }
+        if let Some(v) = &mut side_views {
+            v.before_step(&sim, step);
+        }
         sim.step();
         step += 1;
+        if let Some(v) = &mut side_views {
+            v.after_step(&sim);
+        }
     }
     samples.push(sample(&sim, step));
     frames.push((FINAL_FRAME.to_string(), scene(&sim)));
+    let pictures = side_views.map_or_else(Vec::new, |v| {
+        v.pictures(&sim, name, true, false).into_iter().map(|(file, p)| (file.to_string(), p)).collect()
+    });
     let a = &sim.agents[0];
     Recording {
         frames,
+        pictures,
         samples,
         reached: a.outcome == Some(crate::sim::Outcome::Reached),
         time_s: a.metrics.time_s,
@@ -490,13 +505,16 @@ fn record<'w>(episode: &Episode, world: &'w World, every: usize) -> Recording<'w
     }
 }
 
-/// True for the names of golden frames (`frame_*.png`, `final.png`), not of actual or diff
-/// pictures.
+/// Names of the side views a snapshot may pin ([`Settings::side`]).
+pub const SIDE_PICTURES: [&str; 2] = ["side.png", "upper_side.png"];
+
+/// True for the names of golden frames (`frame_*.png`, `final.png`, the side views), not of
+/// actual or diff pictures.
 fn is_golden_frame(name: &str) -> bool {
     name.ends_with(".png")
         && !name.ends_with(".actual.png")
         && !name.ends_with(".diff.png")
-        && (name == FINAL_FRAME || name.starts_with("frame_"))
+        && (name == FINAL_FRAME || name.starts_with("frame_") || SIDE_PICTURES.contains(&name))
 }
 
 /// True for the files of a snapshot directory: golden frames and trajectory, and what a failed
@@ -615,15 +633,18 @@ fn set_view(frames: &mut [(String, Scene<'_>)], view: Option<Aabb>) {
     }
 }
 
-/// The note `--side` adds to a report about `world`.
-fn side_note(world: &World) -> String {
-    let flat = matches!(world.terrain, Terrain::Flat);
-    let walls = world.solids().all(|o| (o.z_min, o.z_max) == DEFAULT_Z);
-    if flat && walls {
-        "side views: the map has no terrain or 3-D obstacles to show from the side (flat ground, every obstacle a full-height wall); none written".to_string()
-    } else {
-        "side views: strider does not draw terrain or obstacle heights from the side yet; none written".to_string()
+/// The note `--side` adds to a report when there are no side views to pin: none on `world`,
+/// or a body (the disc) that has none.
+fn side_note(world: &World, animated: bool) -> Option<String> {
+    if !animated {
+        return Some("side views: the disc has no legs or upper body to show from the side; none pinned".to_string());
     }
+    let flat = matches!(world.terrain, Terrain::Flat);
+    (flat && !world.upper_body_matters()).then(|| {
+        "side views: the map has no terrain or obstacles the upper body can touch (flat ground, every obstacle a \
+         full-height wall); none pinned"
+            .to_string()
+    })
 }
 
 /// Runs `episode` and compares its frames and trajectory with the goldens in `dir`, or writes
@@ -641,7 +662,7 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
     }
     let update = settings.update || update_requested();
     let world = episode.scenario.world();
-    let mut rec = record(episode, &world, settings.every);
+    let mut rec = record(episode, &world, settings.every, settings.side);
     // Every frame shows the same region (all of this run's), so that a diff shows what moved
     // rather than a shifted view; a check draws with the golden's region.
     let own_view = rec.frames.iter().map(|(_, s)| s.auto_view()).reduce(|a, b| a.union(&b)).map(trajectory::as_written);
@@ -666,10 +687,11 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
         path_length_m: rec.path_length_m,
     };
     if settings.side {
-        report.notes.push(side_note(&world));
+        report.notes.extend(side_note(&world, episode.params.animation.is_some()));
     }
     let existing = names_in(dir)?;
-    let drawn: BTreeSet<String> = rec.frames.iter().map(|(n, _)| n.clone()).collect();
+    let drawn: BTreeSet<String> =
+        rec.frames.iter().map(|(n, _)| n.clone()).chain(rec.pictures.iter().map(|(n, _)| n.clone())).collect();
     if update {
         set_view(&mut rec.frames, own_view);
         let traj_text = trajectory::to_text(&about, &Record { view: own_view, samples: rec.samples });
@@ -691,6 +713,15 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
                     })
                 })
                 .collect::<Result<_, Error>>()?;
+            for (name, pixmap) in &rec.pictures {
+                write_png(&new.join(name), pixmap)?;
+                report.frames.push(FrameResult {
+                    name: name.clone(),
+                    status: FrameStatus::Written,
+                    actual_file: None,
+                    diff_file: None,
+                });
+            }
             write(&new.join(TRAJECTORY_FILE), traj_text.as_bytes())
         })?;
         let stale = |name: &&String| (is_golden_frame(name) && !drawn.contains(*name)) || is_failure_output(name);
@@ -717,6 +748,9 @@ pub fn check_episode(episode: &Episode, settings: &Settings, dir: &Path) -> Resu
         .par_iter()
         .map(|(name, scene)| check_image(&dir.join(name), &render_png(scene, w, h), &settings.tolerance, dir))
         .collect::<Result<_, Error>>()?;
+    for (name, pixmap) in &rec.pictures {
+        frames.push(check_image(&dir.join(name), pixmap, &settings.tolerance, dir)?);
+    }
     for name in existing.iter().filter(|n| is_golden_frame(n) && !drawn.contains(*n)) {
         frames.push(FrameResult {
             name: name.clone(),

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec2;
 use strider::geom::Aabb;
 use strider::render::png::render_png;
-use strider::render::scene::{AgentView, Scene};
+use strider::render::scene::{AgentView, Scene, Verdict};
 use strider::render::side_view::SideTransform;
 use strider::snapshot::{self, Tolerance};
 use strider::world::{Obstacle, ObstacleShape, SectorLayout, Sensed, World};
@@ -116,11 +116,15 @@ fn demo_scene(world: &World) -> Scene<'_> {
             trail,
             sectors: Some((layout.edges.clone(), sensed.sectors.clone(), layout.range)),
             footprints,
+            walks: true,
+            start: Some(DVec2::new(-1.0, -1.0)),
             label: Some("agent 1".into()),
         }],
         goals: vec![(goal, 0.5)],
         view: None,
         caption: Some("box, cylinder, L-shape, 3 sectors".into()),
+        outcome: Some(Verdict { text: "timed out 1.20 m from the goal".into(), success: false }),
+        legend: true,
     }
 }
 
@@ -148,11 +152,15 @@ fn empty_world_one_agent() {
             trail: vec![DVec2::new(-1.5, -1.0), DVec2::new(-0.5, -0.8), DVec2::new(0.5, 0.0)],
             sectors: None,
             footprints: vec![],
+            walks: false,
+            start: None,
             label: None,
         }],
         goals: vec![],
         view: Some(Aabb::new(DVec2::new(-3.0, -2.0), DVec2::new(3.0, 2.0))),
         caption: None,
+        outcome: None,
+        legend: false,
     };
     assert_matches_golden("empty_world", &render_png(&scene, 320, 240));
 }

@@ -411,3 +411,47 @@ fn barn_worlds_and_folders_of_them_run_as_batches() {
     let json: serde_json::Value = serde_json::from_slice(&one.stdout).unwrap();
     assert!(json["episodes"][0]["barn_score"].is_null(), "{}", json["episodes"][0]);
 }
+
+/// Benchmark data is named by set (`movingai:NAME`, `barn:NAME`, `barn:` for the folder) and
+/// read from the folder `$STRIDER_DATA` names: the same runs as the files' own paths give.
+#[test]
+fn benchmark_data_is_read_from_the_data_folder() {
+    let root = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("benchmark_data");
+    let _ = std::fs::remove_dir_all(&root);
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/maps");
+    std::fs::create_dir_all(root.join("movingai")).unwrap();
+    for f in ["tiny.map", "tiny.map.scen"] {
+        std::fs::copy(fixtures.join(f), root.join("movingai").join(f)).unwrap();
+    }
+    std::fs::copy(fixtures.join("tiny.map.scen"), root.join("movingai/other.scen")).unwrap();
+    std::fs::create_dir_all(root.join("barn")).unwrap();
+    barn_files(&root.join("barn"), 2, &[(-0.3, 6.0)], true);
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_strider"))
+            .args(args)
+            .env("STRIDER_DATA", &root)
+            .output()
+            .unwrap()
+    };
+    let path = |p: &str| root.join(p).to_str().unwrap().to_string();
+    for (named, direct) in [
+        (vec!["run", "movingai:tiny", "--body", "disc"], vec!["run".to_string(), path("movingai/tiny.map")]),
+        (
+            vec!["run", "movingai:tiny.map", "--scen", "movingai:other.scen", "--body", "disc"],
+            vec!["run".to_string(), path("movingai/tiny.map"), "--scen".into(), path("movingai/other.scen")],
+        ),
+        (vec!["run", "barn:world_2", "--body", "disc"], vec!["run".to_string(), path("barn/world_2.world")]),
+        (vec!["run", "barn:", "--body", "disc"], vec!["run".to_string(), path("barn")]),
+    ] {
+        let a = run(&named);
+        let mut direct = direct;
+        direct.extend(["--body".to_string(), "disc".to_string()]);
+        let b = run(&direct.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(a.status.success(), "{named:?}: {}", String::from_utf8_lossy(&a.stderr));
+        assert_eq!(a.stdout, b.stdout, "{named:?}");
+    }
+    let missing = run(&["run", "movingai:absent"]);
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert_eq!(missing.status.code(), Some(2), "{err}");
+    assert!(err.contains("movingai/absent.map") && err.contains("$STRIDER_DATA"), "{err}");
+}

@@ -130,6 +130,9 @@ fn run_command_prints_json_and_csv() {
         assert!(!e[key].is_null(), "{key} missing in {e}");
     }
     assert_eq!(doc["summary"]["success_rate"], 1.0);
+    // Times are whole steps of 0.05 s, written without the rounding error of their sum.
+    let t = e["time_s"].as_f64().unwrap();
+    assert_eq!(t, (t * 20.0).round() / 20.0, "{e}");
     let a = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv"]);
     let b = strider(&["run", "random:sparse", "--episodes", "3", "--seed", "5", "--format", "csv", "--threads", "1"]);
     assert_eq!(a.stdout, b.stdout);
@@ -166,6 +169,31 @@ fn render_writes_frames() {
     assert!(frames >= 3, "{frames}");
     let img = image::open(dir.join("final.png")).unwrap();
     assert_eq!((img.width(), img.height()), (200, 150));
+}
+
+/// `render --gif` writes the whole episode as one looping animation: a frame every `--every`
+/// steps and the final one held, all the same size and showing the same region.
+#[test]
+fn render_writes_an_animated_gif() {
+    use image::AnimationDecoder;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("render_gif");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let gif = dir.join("u_trap.gif");
+    let o = strider(&["render", "maps/u_trap.rhai", "--gif", gif.to_str().unwrap(), "--size", "320x320"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = std::io::BufReader::new(std::fs::File::open(&gif).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file).unwrap().into_frames().collect_frames().unwrap();
+    // 16.6 s at 20 steps of 0.05 s a frame: 17 frames and the final one.
+    assert_eq!(frames.len(), 18);
+    assert!(frames.iter().all(|f| f.buffer().dimensions() == (320, 320)));
+    assert_eq!(frames[0].delay().numer_denom_ms(), (250, 1));
+    assert_eq!(frames[17].delay().numer_denom_ms(), (2000, 1));
+    assert_ne!(frames[0].buffer(), frames[17].buffer());
+    frames[17].buffer().save(dir.join("last.png")).unwrap();
+    // Only a GIF asked for: no frame directory needed; a GIF of one frame is refused.
+    let o = strider(&["render", "maps/u_trap.rhai", "--gif", gif.to_str().unwrap(), "--every", "0"]);
+    assert_eq!(o.status.code(), Some(2));
 }
 
 #[test]
@@ -209,7 +237,20 @@ fn experiment_scripts_compare_rule_sets() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(o.stdout.is_empty(), "print goes to the log, not stdout");
     let text = String::from_utf8_lossy(&o.stderr);
-    assert!(text.contains("default") && text.contains("cautious on u_trap: reached true"), "{text}");
+    // The script prints its tables with `table`: aligned columns, rounded numbers.
+    assert!(text.contains("rules on u_trap  reached  time (s)  path ratio"), "{text}");
+    assert!(text.contains("cautious         true"), "{text}");
+    let rows: Vec<&str> = text.lines().skip_while(|l| !l.contains("median ratio")).take(3).collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    assert!(rows.iter().all(|r| r.chars().count() == rows[0].chars().count()), "the columns align: {text}");
+    assert!(
+        rows[1..].iter().all(|r| r
+            .split_whitespace()
+            .skip(2)
+            .take(3)
+            .all(|x| x.split('.').nth(1).is_some_and(|d| d.len() == 3))),
+        "{text}"
+    );
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("experiments");
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.rhai");
@@ -343,4 +384,102 @@ fn a_batch_reports_steps_as_they_are_taken_and_each_episode() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("agent-steps/s") && !err.contains('\u{1b}'), "{err}");
+}
+
+/// A failed episode says on stderr which it was (and in a folder run, which world) and why:
+/// here a disc walled in, which times out; the clean world of the same folder is not named.
+#[test]
+fn a_failed_episode_says_why_on_stderr() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("failure_reasons");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("a_open.txt"), "start 0 0\ngoal 3 0\n").unwrap();
+    let walls = "box 0 1.2 3 0.2\nbox 0 -1.2 3 0.2\nbox 1.4 0 0.2 2.6\nbox -1.4 0 0.2 2.6\n";
+    std::fs::write(dir.join("b_walled.txt"), format!("start 0 0\ngoal 4 0\ntime_limit 3\n{walls}")).unwrap();
+    let o = strider(&["run", dir.to_str().unwrap(), "--body", "disc"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("episode 1 (b_walled): timed out after 3.05 s (limit 3.00 s), ")
+            && err.contains(" m from the goal circle"),
+        "{err}"
+    );
+    assert!(!err.contains("a_open"), "{err}");
+    assert!(err.contains("failed: 1 of 2 episodes"), "{err}");
+}
+
+/// The first step that ends overlapping something is kept, and the episode's failure names
+/// it: when, where, how deep and into which obstacle.
+#[test]
+fn a_collision_is_described_by_its_first_contact() {
+    use glam::DVec2;
+    use strider::sim::failure::Touched;
+    use strider::world::{Obstacle, ObstacleShape, Pose, Task, World};
+    let wall = ObstacleShape::Box { center: DVec2::new(0.2, 0.0), width: 0.2, height: 2.0, yaw: 0.0 };
+    let world = World::new(vec![Obstacle::build(wall, 0.0, 2.0).unwrap()]);
+    let mut sim = Simulation::new(world, StepParameters::default());
+    // Started overlapping the wall (a scenario would refuse this; the simulation measures it).
+    let task = Task::new(Pose { position: DVec2::ZERO, yaw: std::f64::consts::PI }, DVec2::new(-5.0, 0.0));
+    sim.add_agent(task, &controller());
+    sim.step();
+    let contact = sim.agents[0].metrics.first_collision.expect("the first step overlaps the wall");
+    assert_eq!(contact.with, Touched::Obstacle(0));
+    assert!((contact.time_s - 0.05).abs() < 1e-12 && contact.depth_m > 0.0, "{contact:?}");
+    while !sim.all_done() {
+        sim.step();
+    }
+    let why = sim.failure(0).expect("a collision is a failure");
+    assert!(
+        why.contains("first at 0.05 s") && why.contains("into the obstacle at (0.20, 0.00), 0.20 × 2.00 m"),
+        "{why}"
+    );
+}
+
+/// Every command's help speaks of the papers by name (no internal numbers), `run --help` names
+/// every kind of world it takes, `tui --help` lists the keys and `experiment --help` the
+/// functions a script can call.
+#[test]
+fn help_names_what_a_user_can_give() {
+    let commands: &[&[&str]] = &[
+        &[],
+        &["run"],
+        &["merge"],
+        &["gen"],
+        &["render"],
+        &["snapshot"],
+        &["experiment"],
+        &["tui"],
+        &["db", "build"],
+        &["db", "info"],
+        &["db", "track"],
+        &["db", "export"],
+        &["train"],
+        &["reproduce", "table1"],
+        &["steps"],
+        &["fuzzy", "eval"],
+        &["fuzzy", "export"],
+        &["fuzzy", "plot"],
+        &["fuzzy", "bench"],
+    ];
+    let help = |command: &[&str]| {
+        let mut args = command.to_vec();
+        args.push("--help");
+        let o = strider(&args);
+        assert!(o.status.success(), "{args:?}");
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    for command in commands {
+        let text = help(command).to_lowercase();
+        assert!(!text.contains("seed 00") && !text.contains("seed paper"), "{command:?}: {text}");
+    }
+    let run = help(&["run"]);
+    for form in ["world_N.world", "path_files/", "folder of worlds", "movingai:NAME", "barn:NAME", "$STRIDER_DATA"] {
+        assert!(run.contains(form), "run --help does not name {form}: {run}");
+    }
+    let tui = help(&["tui"]);
+    assert!(tui.contains("random:KIND") && tui.contains("Keys") && tui.contains("Ctrl-C"), "{tui}");
+    let experiment = help(&["experiment"]);
+    for f in ["load_map(", "run_episode(", "run_batch(", "snapshot(", "table("] {
+        assert!(experiment.contains(f), "{experiment}");
+    }
 }

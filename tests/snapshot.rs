@@ -219,25 +219,32 @@ fn bad_input_names_the_file() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// `--side` pins the side views `render --side` draws where the map has them (on terrain, the
+/// legs' `side.png`), and says so where it has none.
 #[test]
-fn side_views_are_not_faked() {
+fn side_views_are_pinned_where_the_map_has_them() {
     let dir = scratch("side");
-    let args = [
-        "snapshot",
-        "maps/open_field.rhai",
-        "--every",
-        "0",
-        "--size",
-        "64x64",
-        "--side",
-        "--golden",
-        dir.to_str().unwrap(),
-    ];
-    let o = strider(&[&args[..], &["--update"]].concat(), &[]);
+    let g = dir.to_str().unwrap();
+    let args = |map: &'static str| ["snapshot", map, "--every", "0", "--size", "64x64", "--side", "--golden", g];
+    let o = strider(&[&args("maps/open_field.rhai")[..], &["--update"]].concat(), &[]);
     let out = text(&o).0;
     assert_eq!(o.status.code(), Some(0), "{out}");
-    assert!(out.contains("no terrain or 3-D obstacles to show from the side"), "{out}");
+    assert!(out.contains("no terrain or obstacles the upper body can touch"), "{out}");
     assert_eq!(names(&dir), ["final.png", "trajectory.txt"]);
+
+    let o = strider(&[&args("maps/terrain_stairs.rhai")[..], &["--update"]].concat(), &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o).0);
+    assert_eq!(names(&dir), ["final.png", "side.png", "trajectory.txt"]);
+    let side = image::open(dir.join("side.png")).unwrap();
+    assert!(side.width() > 64, "the side view is drawn at its own size");
+    let o = strider(&args("maps/terrain_stairs.rhai"), &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o).0);
+    // Checked without --side, the pinned side view is missing from the run.
+    let without: Vec<&str> = args("maps/terrain_stairs.rhai").into_iter().filter(|a| *a != "--side").collect();
+    let o = strider(&without, &[]);
+    let out = text(&o).0;
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("side.png: not drawn (a side view: the goldens were written with --side)"), "{out}");
 }
 
 #[test]

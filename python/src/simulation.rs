@@ -233,7 +233,7 @@ impl Simulation {
             .map(|a| {
                 let m = a.metrics;
                 let d = PyDict::new(py);
-                d.set_item("time_s", m.time_s)?;
+                d.set_item("time_s", strider::experiment::on_step(m.time_s, self.sim.params.dt_s))?;
                 d.set_item("path_length_m", m.path_length_m)?;
                 d.set_item("min_clearance_m", m.min_clearance_m)?;
                 d.set_item("collisions", m.collisions)?;

@@ -1,20 +1,25 @@
 """Gymnasium environments, registered on import:
 
-- ``strider/Navigate-v0``: the navigation task (seed 000 §3.1) driven by the agent. The
-  observation is the range scan around the agent (``rays`` free distances from straight ahead
-  counter-clockwise, metres) followed by the goal's distance (m) and bearing (rad, positive to
-  the left) and the agent's speed (m/s); the action is the turn rate (rad/s) and speed (m/s)
-  the fuzzy planner would command; the reward is the progress toward the goal less penalties
-  for collisions, stalls (steps the body refused or shortened against an obstacle) and time,
-  plus a bonus at the goal. ``terminated`` at the goal, ``truncated`` at the task's time limit.
-- ``strider/AnimationControl-v0``: the RL animation controller's MDP (seed 000 §3.2): at each
+- ``strider/Navigate-v0``: the navigation task (the fuzzy + RL paper's §3.1) driven by the
+  agent. The observation is the range scan around the agent (``rays`` free distances from
+  straight ahead counter-clockwise, metres, at most the sensor's range) followed by the goal's
+  distance (m, capped at ``max_goal_distance``) and bearing (rad, positive to the left) and the
+  agent's speed (m/s, capped at twice the commanded maximum): every bound finite. The action
+  is two numbers in [-1, 1], as Gymnasium recommends: the turn rate as a share of the body's
+  largest (-1 full right, 1 full left) and the speed from standing (-1) to the body's top
+  speed (1), what the fuzzy planner would command (:meth:`NavigateEnv.action_of` turns rad/s
+  and m/s into one). The reward is the progress toward the goal less penalties for
+  collisions, stalls (steps the body refused or shortened against an obstacle) and time, plus
+  a bonus at the goal. ``terminated`` at the goal, ``truncated`` at the task's time limit.
+- ``strider/AnimationControl-v0``: the RL animation controller's MDP (the paper's §3.2): at each
   switch point choose the next interval among the candidates (``Discrete``; candidates past
   the interval's own are masked in ``info["action_mask"]`` and ``action_masks()`` and play the
   natural successor); the observation is the state strider's SARSA policy sees (the interval
   playing, the speed and direction errors), the reward Eq. 4; ``info["sarsa_action"]`` is what
   strider's trained policy would choose.
 
-Both are deterministic under ``reset(seed=…)``.
+Both are deterministic under ``reset(seed=…)``, and both raise ``gymnasium.error.ResetNeeded``
+when stepped before ``reset`` or after their episode ended.
 """
 
 from __future__ import annotations
@@ -31,6 +36,10 @@ from . import _strider, episode_count
 
 __all__ = ["NavigateEnv", "AnimationControlEnv"]
 
+# The agent's speed in the observation is capped at this many times the commanded maximum (the
+# animated character's clips may briefly play faster than commanded).
+SPEED_BOUND = 2.0
+
 PathLike = Union[str, "os.PathLike[str]"]
 
 
@@ -45,6 +54,8 @@ class NavigateEnv(gymnasium.Env):
             ignores them).
         scen: a MovingAI scenario file; each reset picks one of its tasks.
         rays: rays of the range scan in the observation.
+        max_goal_distance: the goal's distance in the observation is capped here (metres; its
+            bound, so that every bound is finite).
         frame_skip: simulation steps (0.05 s each) per environment step.
         progress_weight, collision_penalty, stall_penalty, time_penalty, goal_bonus: the
             reward's terms (per metre, per collision, per stalled step, per second, once).
@@ -61,6 +72,7 @@ class NavigateEnv(gymnasium.Env):
         rules: Optional[PathLike] = None,
         scen: Optional[PathLike] = None,
         rays: int = 32,
+        max_goal_distance: float = 1000.0,
         frame_skip: int = 4,
         progress_weight: float = 1.0,
         collision_penalty: float = 1.0,
@@ -77,6 +89,8 @@ class NavigateEnv(gymnasium.Env):
             raise ValueError(f"rays must be in 1..=4096, found {rays}")
         if int(frame_skip) < 1:
             raise ValueError(f"frame_skip must be at least 1, found {frame_skip}")
+        if not (math.isfinite(max_goal_distance) and max_goal_distance > 0):
+            raise ValueError(f"max_goal_distance must be a positive number of metres, found {max_goal_distance}")
         fspath = lambda p: None if p is None else os.fspath(p)  # noqa: E731
         self._map = os.fspath(map)
         self._sim = _strider.Simulation(self._map, body=body, rules=fspath(rules), scen=fspath(scen))
@@ -88,15 +102,21 @@ class NavigateEnv(gymnasium.Env):
         self._range = float(limits["range_m"])
         self._max_turn, self._max_speed = float(limits["max_turn_rate_rad_s"]), float(limits["max_speed_mps"])
         low = np.concatenate([np.zeros(self.rays), [0.0, -math.pi, 0.0]]).astype(np.float32)
-        high = np.concatenate([np.full(self.rays, self._range), [np.inf, math.pi, np.inf]]).astype(np.float32)
+        high = np.concatenate(
+            [np.full(self.rays, self._range), [float(max_goal_distance), math.pi, SPEED_BOUND * self._max_speed]]
+        ).astype(np.float32)
         self.observation_space = spaces.Box(low, high, dtype=np.float32)
-        self.action_space = spaces.Box(
-            np.array([-self._max_turn, 0.0], dtype=np.float32),
-            np.array([self._max_turn, self._max_speed], dtype=np.float32),
-            dtype=np.float32,
-        )
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         self._distance = 0.0
         self._counts = (0, 0)
+        self._running = False
+
+    def action_of(self, turn_rate: float, speed: float) -> np.ndarray:
+        """The action that commands `turn_rate` (rad/s, positive to the left) and `speed` (m/s),
+        within the body's limits."""
+        turn = np.clip(turn_rate / self._max_turn, -1.0, 1.0)
+        forward = np.clip(2.0 * speed / self._max_speed - 1.0, -1.0, 1.0)
+        return np.array([turn, forward], dtype=np.float32)
 
     def _goal(self) -> Tuple[float, float]:
         (x, y), h = self._sim.positions[0], self._sim.headings[0]
@@ -131,16 +151,20 @@ class NavigateEnv(gymnasium.Env):
         self._distance = self._goal()[0]
         m = self._sim.metrics[0]
         self._counts = (m["collisions"], m["stalls"])
+        self._running = True
         return self._observation(), self._info()
 
     def step(self, action: Any) -> Tuple[np.ndarray, float, bool, bool, dict]:
+        if not self._running:
+            raise gymnasium.error.ResetNeeded("call reset() before step(), and again once an episode has ended")
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,):
             raise ValueError(f"an action is (turn rate, speed), found shape {np.shape(action)}")
         if not np.all(np.isfinite(a)):
             raise ValueError(f"an action must be finite, found {a.tolist()}")
-        turn = float(np.clip(a[0], -self._max_turn, self._max_turn))
-        speed = float(np.clip(a[1], 0.0, self._max_speed))
+        a = np.clip(a, -1.0, 1.0)
+        turn = float(a[0]) * self._max_turn
+        speed = (float(a[1]) + 1.0) / 2.0 * self._max_speed
         before = self._sim.time_s
         self._sim.drive(turn, speed)
         self._sim.step(self.frame_skip)
@@ -160,7 +184,9 @@ class NavigateEnv(gymnasium.Env):
         self._distance = distance
         # A refused episode (no way round for the body) ends as a terminal state, not a truncation.
         terminated = outcome in ("reached", "refused")
-        return self._observation(), float(reward), terminated, outcome == "timed_out", self._info()
+        truncated = outcome == "timed_out"
+        self._running = not (terminated or truncated)
+        return self._observation(), float(reward), terminated, truncated, self._info()
 
     def render(self) -> Optional[np.ndarray]:
         if self.render_mode == "rgb_array":
@@ -169,7 +195,7 @@ class NavigateEnv(gymnasium.Env):
 
 
 class AnimationControlEnv(gymnasium.Env):
-    """Choose the next animation interval at each switch point (seed 000 §3.2).
+    """Choose the next animation interval at each switch point (the fuzzy + RL paper's §3.2).
 
     Args:
         db: an animation database directory (default: built in).
@@ -205,6 +231,7 @@ class AnimationControlEnv(gymnasium.Env):
         )
         self.action_space = spaces.Discrete(self._mdp.max_actions)
         self._t = 0
+        self._running = False
 
     def _observation(self) -> dict:
         interval, speed_error, direction_error = self._mdp.state()
@@ -230,9 +257,12 @@ class AnimationControlEnv(gymnasium.Env):
         super().reset(seed=seed)
         self._mdp.reset(int(self.np_random.integers(0, 2**63 - 1)))
         self._t = 0
+        self._running = True
         return self._observation(), self._info()
 
     def step(self, action: Any) -> Tuple[dict, float, bool, bool, dict]:
+        if not self._running:
+            raise gymnasium.error.ResetNeeded("call reset() before step(), and again once an episode has ended")
         value = np.asarray(action)
         if value.shape not in ((), (1,)) or not np.issubdtype(value.dtype, np.number):
             raise ValueError(f"an action is one candidate index, found {action!r}")
@@ -243,7 +273,9 @@ class AnimationControlEnv(gymnasium.Env):
             raise ValueError(f"action must be in 0..{self.action_space.n - 1}, found {a}")
         reward, masked = self._mdp.step(a)
         self._t += 1
-        return self._observation(), float(reward), False, self._t >= self.episode_length, self._info(masked)
+        truncated = self._t >= self.episode_length
+        self._running = not truncated
+        return self._observation(), float(reward), False, truncated, self._info(masked)
 
 
 def _register() -> None:

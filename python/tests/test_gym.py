@@ -1,6 +1,7 @@
 """The Gymnasium environments: `check_env`, determinism under `reset(seed=…)`, random rollouts."""
 
 import time
+import warnings
 
 import gymnasium
 import numpy as np
@@ -25,9 +26,41 @@ def _in_repo(repo, monkeypatch):
 
 
 @pytest.mark.parametrize("name,kw", ENVS, ids=IDS)
-def test_check_env_passes(name, kw):
+def test_check_env_passes_without_warnings(name, kw):
     env = gymnasium.make(name, **kw)
-    check_env(env.unwrapped, skip_render_check=False)
+    # Gymnasium's conventions (actions in [-1, 1], finite observation bounds) are kept: any
+    # warning of the checker fails the test.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped, skip_render_check=False)
+
+
+@pytest.mark.parametrize("name,kw", [ENVS[0], ENVS[3]], ids=["navigate", "animation"])
+def test_stepping_before_reset_or_after_the_end_raises(name, kw):
+    env = gymnasium.make(name, **kw).unwrapped
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        env.step(env.action_space.sample())
+    env.reset(seed=1)
+    env.action_space.seed(0)
+    done = False
+    while not done:
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        done = terminated or truncated
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        env.step(env.action_space.sample())
+    env.reset(seed=2)
+    env.step(env.action_space.sample())
+
+
+def test_navigate_actions_are_shares_of_the_body_limits():
+    env = NavigateEnv("random:sparse", body="disc")
+    limits = env._sim.limits
+    top, turn = limits["max_speed_mps"], limits["max_turn_rate_rad_s"]
+    assert env.action_space.low.tolist() == [-1.0, -1.0] and env.action_space.high.tolist() == [1.0, 1.0]
+    assert np.all(np.isfinite(env.observation_space.low)) and np.all(np.isfinite(env.observation_space.high))
+    np.testing.assert_allclose(env.action_of(turn / 2, top), [0.5, 1.0])
+    np.testing.assert_allclose(env.action_of(-10 * turn, 0.0), [-1.0, -1.0])
+    np.testing.assert_allclose(env.action_of(0.0, top / 2), [0.0, 0.0])
 
 
 def rollout(env, seed, steps, actions_seed=0):
@@ -84,7 +117,7 @@ def test_navigate_rewards_progress_and_ends_at_the_goal():
     while not (terminated or truncated):
         bearing = obs[-2]
         front = obs[0]
-        obs, reward, terminated, truncated, info = env.step(np.array([3.0 * bearing, 1.5 if front > 0.5 else 0.3]))
+        obs, reward, terminated, truncated, info = env.step(env.action_of(3.0 * bearing, 1.5 if front > 0.5 else 0.3))
         total += reward
     if terminated:
         assert info["distance_m"] < 1.0 and total > 5.0

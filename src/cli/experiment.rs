@@ -225,6 +225,56 @@ pub fn register(engine: &mut rhai::Engine, base: &Path, budget: &EpisodeBudget) 
     engine.register_fn("run_batch", move |s: ScenarioHandle, episodes: i64, seed: i64, rules: Array| -> Res<Map> {
         batch(&MapSource::Scenario(s.0), episodes, seed, &rules, &b)
     });
+    engine.register_fn("table", |rows: Array| table(&rows, TABLE_DECIMALS));
+    engine.register_fn("table", |rows: Array, decimals: i64| table(&rows, decimals));
+}
+
+/// Decimals `table(rows)` writes numbers with.
+const TABLE_DECIMALS: i64 = 3;
+
+/// `table(rows)`, `table(rows, decimals)`: rows (arrays of cells) as aligned columns, one line
+/// each, two spaces apart; numbers rounded to `decimals` places and aligned right, whole
+/// numbers as they are, `()` (a figure not measured) as `-`, everything else as its text,
+/// aligned left.
+fn table(rows: &Array, decimals: i64) -> Res<String> {
+    let decimals = usize::try_from(decimals)
+        .ok()
+        .filter(|d| *d <= 12)
+        .ok_or_else(|| -> Box<EvalAltResult> { format!("table: decimals must be 0..=12, found {decimals}").into() })?;
+    let mut cells: Vec<Vec<(String, bool)>> = Vec::new();
+    for row in rows {
+        let row = row.clone().try_cast::<Array>().ok_or("table: each row must be an array of cells")?;
+        cells.push(
+            row.iter()
+                .map(|c| {
+                    if let Ok(x) = c.as_float() {
+                        (format!("{x:.decimals$}"), true)
+                    } else if let Ok(n) = c.as_int() {
+                        (n.to_string(), true)
+                    } else if c.is_unit() {
+                        ("-".to_string(), true)
+                    } else {
+                        (c.to_string(), false)
+                    }
+                })
+                .collect(),
+        );
+    }
+    let columns = cells.iter().map(Vec::len).max().unwrap_or(0);
+    let width = |k: usize| cells.iter().filter_map(|r| r.get(k)).map(|(t, _)| t.chars().count()).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..columns).map(width).collect();
+    let lines: Vec<String> = cells
+        .iter()
+        .map(|row| {
+            let line: Vec<String> = row
+                .iter()
+                .zip(&widths)
+                .map(|((text, number), &w)| if *number { format!("{text:>w$}") } else { format!("{text:<w$}") })
+                .collect();
+            line.join("  ").trim_end().to_string()
+        })
+        .collect();
+    Ok(lines.join("\n"))
 }
 
 /// Reports of the snapshots that did not match while an experiment script ran.
@@ -458,7 +508,11 @@ pub fn run(args: ExperimentArgs) -> Outcome {
     // `print` and `debug` are the experiment's log: stderr, line by line as the script runs,
     // so nothing is lost when it fails later; stdout stays free for data.
     let f = file.clone();
-    engine.on_print(move |s| eprintln!("{f}: {s}"));
+    engine.on_print(move |s| {
+        for line in s.lines() {
+            eprintln!("{f}: {line}");
+        }
+    });
     let f = file.clone();
     engine.on_debug(move |s, _, pos| match pos.line() {
         Some(l) => eprintln!("{f}:{l}: {s}"),
@@ -493,6 +547,21 @@ pub fn run(args: ExperimentArgs) -> Outcome {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tables_align_and_round() {
+        let rows: Array = vec![
+            Dynamic::from(vec![Dynamic::from("rules"), Dynamic::from("success"), Dynamic::from("ratio")]),
+            Dynamic::from(vec![Dynamic::from("default"), Dynamic::from_float(0.99), Dynamic::from_float(1.234567)]),
+            Dynamic::from(vec![Dynamic::from("cautious"), Dynamic::from_float(1.0), Dynamic::UNIT]),
+        ];
+        assert_eq!(
+            table(&rows, 3).unwrap(),
+            "rules     success  ratio\ndefault     0.990  1.235\ncautious    1.000      -"
+        );
+        assert_eq!(table(&rows, 1).unwrap().lines().nth(1), Some("default       1.0    1.2"));
+        assert!(table(&rows, 13).is_err());
+    }
 
     #[test]
     fn a_script_looping_over_episodes_is_stopped_by_its_budget() {

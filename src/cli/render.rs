@@ -1,8 +1,9 @@
 //! `strider render`: top-down PNG frames of a navigation episode (seed 000 Fig 2-style
-//! pictures) — obstacle hulls, goal, trail, agent and heading, sensor sectors — and a final
-//! trajectory frame.
+//! pictures) — obstacle hulls, goal, start, trail, agent and heading, sensor sectors, the
+//! outcome and a legend — and a final trajectory frame; or the whole episode as one animated
+//! GIF, every frame showing the same region.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use clap::Args;
@@ -10,10 +11,11 @@ use clap::Args;
 use super::run::{MapArgs, job, load_controller, load_map_args};
 use crate::files::write_atomic;
 use crate::load::Outcome;
+use crate::render::gif::encode_gif;
 use crate::render::png::{PngPainter, encode, parse_size, render_png};
-use crate::render::poses::{StripPose, draw_strip};
-use crate::render::side_view::render_side_view;
-use crate::render::sim_view::{SideRecorder, StripView, scene_of, strip_pose_of, upper_strip_pose};
+use crate::render::poses::draw_strip;
+use crate::render::scene::Scene;
+use crate::render::sim_view::{SideViews, scene_of, strip_pose_of};
 use crate::sim::{Body, Simulation, StepParameters};
 
 /// `strider render` options.
@@ -23,8 +25,13 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub map: MapArgs,
     /// Directory for the PNG frames (created if missing).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required_unless_present = "gif")]
+    pub out: Option<PathBuf>,
+    /// Also (or instead) write the episode as one animated GIF: a frame every `--every` steps
+    /// and the final one, all showing the same region, played at four times the simulated
+    /// speed, looping.
+    #[arg(long, value_name = "FILE")]
+    pub gif: Option<PathBuf>,
     /// Write a frame every K simulation steps (0: only the final frame).
     #[arg(long, default_value_t = 20)]
     pub every: usize,
@@ -42,31 +49,30 @@ pub struct RenderArgs {
     #[arg(long)]
     pub poses: bool,
     /// Also write `side.png`: the side view of the character's legs on the ground profile
-    /// (seed 002 Fig 6, Fig 8) through every step it took, unrolled along its path, on a map
+    /// (the digital-actor paper's Fig 6 and Fig 8) through every step it took, unrolled along its path, on a map
     /// with uneven terrain; and `upper_side.png`, a strip of the character seen from its left
-    /// where its upper body bent or moved its arms for obstacles (seed 002 Fig 9), on a map
+    /// where its upper body bent or moved its arms for obstacles (the digital-actor paper's Fig 9), on a map
     /// with obstacles the upper body can touch. Needs the animated character.
     #[arg(long)]
     pub side: bool,
     /// Also write `upper_front.png`: a strip of the character seen from ahead where its upper
-    /// body twisted or moved its arms for obstacles (seed 002 Fig 9). Needs the animated
+    /// body twisted or moved its arms for obstacles (the digital-actor paper's Fig 9). Needs the animated
     /// character and a map with obstacles the upper body can touch.
     #[arg(long)]
     pub front: bool,
 }
 
-/// Most poses in an upper-body strip.
-const UPPER_POSES: usize = 12;
-
-/// Offsets (radians) from which a moment counts as the upper body moving for obstacles in the
-/// upper-body strips.
-const UPPER_MOVED_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
-
-/// Leg poses per step in the side view.
-const SIDE_POSES_PER_STEP: usize = 4;
-
 /// Poses in the side-view strip.
 const POSES: usize = 16;
+
+/// An animated GIF plays this many times faster than the simulated time.
+const GIF_SPEEDUP: f64 = 4.0;
+
+/// The last frame of a GIF shows this long before the animation starts again, milliseconds.
+const GIF_HOLD_MS: u32 = 2000;
+
+/// GIF frames drawn at once (in parallel) before they are encoded.
+const GIF_BATCH: usize = 8;
 
 /// `strider render`.
 pub fn render(args: RenderArgs) -> Outcome {
@@ -86,6 +92,15 @@ pub fn render(args: RenderArgs) -> Outcome {
         return Err(
             anyhow!("--front draws the animated character's upper body; it cannot be used with --body disc").into()
         );
+    }
+    if args.gif.is_some() && args.every == 0 {
+        return Err(anyhow!("--gif animates a frame every --every steps; --every 0 draws only the final one").into());
+    }
+    if args.out.is_none() && (args.poses || args.side || args.front) {
+        return Err(anyhow!("--poses, --side and --front write pictures into the --out directory; give one").into());
+    }
+    if let Some(gif) = &args.gif {
+        crate::files::check_writable(gif)?;
     }
     let source = load_map_args(&args.map)?;
     let controller = load_controller(args.map.rules.as_deref())?;
@@ -109,30 +124,39 @@ pub fn render(args: RenderArgs) -> Outcome {
         )
         .into());
     }
-    std::fs::create_dir_all(&args.out).with_context(|| format!("cannot create {}", args.out.display()))?;
+    if let Some(out) = &args.out {
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    }
     let mut params =
         StepParameters { animation: crate::load::load_animation(&args.body)?, ..StepParameters::default() };
     params.limits.radius = job.scenario.agent_radius;
     let mut sim = Simulation::new(world, params);
     sim.add_agent(job.scenario.tasks[job.task], &controller);
+    // The GIF's frames, drawn once the episode's whole region is known.
+    let gif_world = sim.world.clone();
+    let mut gif_frames: Vec<(Scene, u32)> = Vec::new();
+    let frame_ms = (args.every as f64 * sim.params.dt_s * 1e3 / GIF_SPEEDUP).round() as u32;
     let (w, h) = args.size;
     let name = job.scenario.name.clone();
     let mut frames = 0usize;
     let mut save = |sim: &Simulation, file: String| -> Outcome {
         let caption = format!("{name}  t = {:.2} s", sim.time_s);
-        let pixmap = render_png(&scene_of(sim, Some(caption)), w, h);
-        let png = encode(&pixmap).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
-        let path = args.out.join(file);
+        let scene = scene_of(sim, Some(caption));
+        if args.gif.is_some() {
+            let last = file == FINAL_FRAME;
+            gif_frames.push((scene.clone().in_world(&gif_world), if last { GIF_HOLD_MS } else { frame_ms }));
+        }
+        let Some(out) = &args.out else { return Ok(()) };
+        let png = encode(&render_png(&scene, w, h)).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
+        let path = out.join(file);
         write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
         frames += 1;
         Ok(())
     };
     let mut step = 0usize;
     let mut strip = Vec::new();
-    let mut side = SideRecorder::default();
-    // Upper-body strips: the moments the upper body moved for obstacles, every 0.25 s.
-    let mut upper_poses: Vec<(StripPose, StripPose)> = Vec::new();
     let per_pose = (0.25 / sim.params.dt_s).round().max(1.0) as usize;
+    let mut side = (args.side || args.front).then(|| SideViews::new(&sim));
     while !sim.all_done() {
         if args.every > 0 && step.is_multiple_of(args.every) {
             save(&sim, format!("frame_{step:06}.png"))?;
@@ -146,32 +170,20 @@ pub fn render(args: RenderArgs) -> Outcome {
         {
             strip.push(strip_pose_of(b, format!("{:.2} s", sim.time_s)));
         }
-        if (args.side || args.front)
-            && upper
-            && step.is_multiple_of(per_pose)
-            && let Some(b) = sim.agents[0].body.animated()
-        {
-            let c = b.upper_offsets();
-            let moved = c.waist.iter().chain(c.arms.iter().flatten()).any(|x| x.abs() > UPPER_MOVED_RAD);
-            if moved {
-                // Time, waist bend and twist in degrees.
-                let caption =
-                    format!("{:.2} s b{:.0} t{:+.0}", sim.time_s, c.waist[0].to_degrees(), c.waist[1].to_degrees());
-                let solids: Vec<_> = sim.world.solids().collect();
-                let pose = |view| upper_strip_pose(b, solids.iter().copied(), view, caption.clone());
-                upper_poses.push((pose(StripView::Side), pose(StripView::Front)));
-            }
+        if let Some(side) = &mut side {
+            side.before_step(&sim, step);
         }
         sim.step();
         step += 1;
-        if args.side
-            && legs
-            && let Some(f) = sim.agents[0].body.animated().and_then(|b| b.footing())
-        {
-            side.observe(f);
+        if let Some(side) = &mut side {
+            side.after_step(&sim);
         }
     }
-    save(&sim, "final.png".to_string())?;
+    save(&sim, FINAL_FRAME.to_string())?;
+    let out = args.out.as_deref().unwrap_or(Path::new("."));
+    if let Some(path) = &args.gif {
+        write_gif(path, gif_frames, args.size)?;
+    }
     if args.poses {
         if strip.is_empty() {
             return Err(anyhow!("--poses needs the animated body").into());
@@ -179,46 +191,47 @@ pub fn render(args: RenderArgs) -> Outcome {
         let mut painter = PngPainter::new(1600, 320);
         draw_strip(&strip, &mut painter);
         let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
-        let path = args.out.join("poses.png");
+        let path = out.join("poses.png");
         write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
     }
-    if args.side && legs {
-        let foot = sim.agents[0].body.animated().and_then(|b| b.footing()).map(|f| f.params().leg.foot_length_m());
-        let mut view = side.view(foot.unwrap_or_default(), SIDE_POSES_PER_STEP);
-        view.caption = Some(format!("{name}: {} steps, side view", side.len()));
-        let (pixmap, _) = render_side_view(&view);
-        let png = encode(&pixmap).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
-        let path = args.out.join("side.png");
-        write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    if (args.side || args.front) && upper {
-        if upper_poses.is_empty() {
+    if let Some(side) = &side {
+        if side.upper_unmoved() {
             eprintln!("the upper body kept the database's motion all the way: no upper-body strip to draw");
         }
-        // At most a dozen moments, evenly spread over those recorded.
-        let n = upper_poses.len();
-        let picked: Vec<&(StripPose, StripPose)> =
-            (0..n.min(UPPER_POSES)).map(|k| &upper_poses[k * n / n.min(UPPER_POSES)]).collect();
-        for (wanted, file, view) in [(args.side, "upper_side.png", 0), (args.front, "upper_front.png", 1)] {
-            if !wanted || picked.is_empty() {
-                continue;
-            }
-            let poses: Vec<StripPose> =
-                picked.iter().map(|p| if view == 0 { p.0.clone() } else { p.1.clone() }).collect();
-            let mut painter = PngPainter::new(160 * poses.len() as u32, 360);
-            draw_strip(&poses, &mut painter);
-            let png = encode(painter.pixmap()).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
-            let path = args.out.join(file);
+        for (file, pixmap) in side.pictures(&sim, &name, args.side, args.front) {
+            let png = encode(&pixmap).map_err(|e| anyhow!("cannot encode PNG: {e}"))?;
+            let path = out.join(file);
             write_atomic(&path, &png).with_context(|| format!("cannot write {}", path.display()))?;
         }
     }
     let a = &sim.agents[0];
+    let written = match (&args.out, &args.gif) {
+        (Some(out), Some(gif)) => format!("{frames} frame(s) in {} and {}", out.display(), gif.display()),
+        (Some(out), None) => format!("{frames} frame(s) in {}", out.display()),
+        (None, gif) => format!("{}", gif.as_deref().unwrap_or(Path::new("")).display()),
+    };
     eprintln!(
-        "{frames} frame(s) in {}: {} after {:.2} s, path {:.2} m",
-        args.out.display(),
+        "{written}: {} after {:.2} s, path {:.2} m",
         if a.outcome == Some(crate::sim::Outcome::Reached) { "goal reached" } else { "goal not reached" },
         a.metrics.time_s,
         a.metrics.path_length_m
     );
+    Ok(())
+}
+
+/// Name of the last frame.
+const FINAL_FRAME: &str = "final.png";
+
+/// Writes the animated GIF of `frames` (scenes and how long each shows, milliseconds) at
+/// `size`, every frame showing the region that holds them all, atomically.
+fn write_gif(path: &Path, frames: Vec<(Scene, u32)>, size: (u32, u32)) -> Outcome {
+    use rayon::prelude::*;
+    let region = frames.iter().map(|(s, _)| s.auto_view()).reduce(|a, b| a.union(&b));
+    let frames: Vec<(Scene, u32)> = frames.into_iter().map(|(s, ms)| (Scene { view: region, ..s }, ms)).collect();
+    let drawn = frames.chunks(GIF_BATCH).flat_map(|batch| {
+        batch.par_iter().map(|(scene, ms)| (render_png(scene, size.0, size.1), *ms)).collect::<Vec<_>>()
+    });
+    let bytes = encode_gif(drawn).map_err(|e| anyhow!("cannot encode {}: {e}", path.display()))?;
+    write_atomic(path, &bytes).with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }

@@ -9,7 +9,7 @@ use crate::reproduce::{self, Report, Table1Options};
 /// Experiments of the papers, reproduced.
 #[derive(Debug, Subcommand)]
 pub enum ReproduceCommand {
-    /// Table 1 of seed 000: the pure-RL planner (trained per environment) against fuzzy + RL
+    /// Table 1 of the fuzzy + RL paper: the pure-RL planner (trained per environment) against fuzzy + RL
     /// (trained once), in the sparse, semi-cluttered and cluttered environments of Fig 2.
     Table1(Table1Args),
 }

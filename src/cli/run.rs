@@ -23,10 +23,15 @@ pub use identity::RunIdentity;
 /// Options shared by `run` and `render`.
 #[derive(Debug, Args)]
 pub struct MapArgs {
-    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:KIND`
-    /// (sparse, semi, cluttered, rooms, maze, grid) for seeded random worlds.
+    /// The world: a `.rhai` map, a plain text world (`.txt`), a MovingAI `.map` (each line of
+    /// its scenario file one episode), a BARN challenge `world_N.world` (its reference path
+    /// `path_N.npy` beside it or in `path_files/`), a folder of worlds (`.world`, `.txt`,
+    /// `.rhai`; one batch, in name order), benchmark data `movingai:NAME` or `barn:NAME` (read
+    /// from the folder $STRIDER_DATA, by default ./data; `barn:` runs every BARN world), or
+    /// `random:KIND` (sparse, semi, cluttered, rooms, maze, grid) for seeded random worlds.
     pub map: String,
-    /// MovingAI scenario file (each line one episode); default: MAP.scen if it exists.
+    /// MovingAI scenario file (each line one episode; `movingai:NAME` for benchmark data);
+    /// default: MAP.scen.
     #[arg(long)]
     pub scen: Option<PathBuf>,
     /// Navigation rules (a `.rhai` script building the layered network); default: built in.
@@ -37,8 +42,8 @@ pub struct MapArgs {
     pub seed: u64,
 }
 
-/// Most refused episodes whose reasons `strider run` prints.
-const MAX_REFUSALS_SHOWN: usize = 5;
+/// Most failed episodes whose reasons `strider run` prints.
+const MAX_FAILURES_SHOWN: usize = 5;
 
 /// `strider run` options.
 #[derive(Debug, Args)]
@@ -224,8 +229,18 @@ pub fn run(args: RunArgs) -> Outcome {
     // touch; the other files are still written.
     let write_failures: std::sync::Mutex<Vec<(usize, anyhow::Error)>> = std::sync::Mutex::new(Vec::new());
     let stepping: std::sync::Mutex<f64> = std::sync::Mutex::new(0.0);
+    // The first failed episodes (by number) with why they failed, and how many failed.
+    let failures: std::sync::Mutex<(Vec<(usize, String)>, usize)> = std::sync::Mutex::new((Vec::new(), 0));
     let each = |e: &experiment::Episode| {
         *stepping.lock().unwrap_or_else(|p| p.into_inner()) += e.stepping_s.unwrap_or(0.0);
+        if let Some(why) = &e.failure {
+            let line = format!("episode {} ({}): {why}", e.record.episode, e.record.scenario);
+            let (first, count) = &mut *failures.lock().unwrap_or_else(|p| p.into_inner());
+            first.push((e.record.episode, line));
+            first.sort();
+            first.truncate(MAX_FAILURES_SHOWN);
+            *count += 1;
+        }
         let Some((dir, skeleton, frame_time)) = &motion_out else { return };
         let path = dir.join(format!("episode_{}.bvh", e.record.episode));
         let clip =
@@ -288,23 +303,23 @@ pub fn run(args: RunArgs) -> Outcome {
     write_records(&mut out, args.format, prepared.identity.as_ref(), &summary, &records)?;
     out.flush()?;
     let failed = records.iter().filter(|r| !r.reached || r.collisions > 0).count();
-    let refused: Vec<_> = records.iter().filter_map(|r| Some((r.episode, r.refusal.as_deref()?))).collect();
-    for (episode, why) in refused.iter().take(MAX_REFUSALS_SHOWN) {
-        eprintln!("episode {episode}: {why}");
+    let (first, count) = failures.into_inner().unwrap_or_else(|p| p.into_inner());
+    for (_, line) in &first {
+        eprintln!("{line}");
     }
-    if refused.len() > MAX_REFUSALS_SHOWN {
-        eprintln!("… and {} more episodes with no way round", refused.len() - MAX_REFUSALS_SHOWN);
+    if count > first.len() {
+        eprintln!("… and {} more failed episodes", count - first.len());
     }
     let not_reached =
         (failed > 0).then(|| format!("{failed} of {} episodes did not reach the goal cleanly", records.len()));
     let mut write_failures = write_failures.into_inner().unwrap_or_else(|p| p.into_inner());
     if let (false, Some((dir, _, _))) = (write_failures.is_empty(), &motion_out) {
         write_failures.sort_by_key(|(episode, _)| *episode);
-        for (_, err) in write_failures.iter().take(MAX_REFUSALS_SHOWN) {
+        for (_, err) in write_failures.iter().take(MAX_FAILURES_SHOWN) {
             eprintln!("error: {err:#}");
         }
-        if write_failures.len() > MAX_REFUSALS_SHOWN {
-            eprintln!("… and {} more motion files not written", write_failures.len() - MAX_REFUSALS_SHOWN);
+        if write_failures.len() > MAX_FAILURES_SHOWN {
+            eprintln!("… and {} more motion files not written", write_failures.len() - MAX_FAILURES_SHOWN);
         }
         let also = not_reached.map_or_else(String::new, |m| format!("; {m}"));
         return Err(Failure::Input(anyhow!(
@@ -446,7 +461,7 @@ pub fn default_scenario() -> Outcome {
     let mut out = BufWriter::new(io::stdout().lock());
     writeln!(
         out,
-        "strider: layered fuzzy navigation with the RL-animated character on the built-in '{}' world (seed 000 Fig 2 b)",
+        "strider: layered fuzzy navigation with the RL-animated character on the built-in '{}' world (Fig 2 b of the fuzzy + RL paper)",
         r.scenario
     )?;
     writeln!(out, "  reached the goal:  {}", if r.reached { "yes" } else { "no" })?;
@@ -467,7 +482,10 @@ pub fn default_scenario() -> Outcome {
             "  animated character: foot skating {skate:.3} cm/frame, transition cost {cost:.4}, tracking RMS {track:.3} m"
         )?;
     }
-    writeln!(out, "Pictures: strider render maps/semi_cluttered.rhai --out frames/ --poses")?;
+    writeln!(
+        out,
+        "Watch it: strider render maps/semi_cluttered.rhai --gif semi_cluttered.gif (or --out frames/ for PNGs)"
+    )?;
     out.flush()?;
     if r.reached && r.collisions == 0 { Ok(()) } else { Err(Failure::Task(anyhow!("the default scenario failed"))) }
 }

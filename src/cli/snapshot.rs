@@ -29,8 +29,9 @@ pub struct SnapshotArgs {
     /// Frame size, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x800", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Side views where the map has terrain or 3-D obstacles (none are drawn yet: the report
-    /// says so).
+    /// Also pin the side views `render --side` draws, where the map has them: `side.png` (the
+    /// legs on the ground profile, on terrain) and `upper_side.png` (the upper body among
+    /// obstacles it can touch).
     #[arg(long)]
     pub side: bool,
     /// Agent body.

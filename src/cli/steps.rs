@@ -50,7 +50,7 @@ pub struct StepsArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = StepsFormat::Json)]
     pub format: StepsFormat,
-    /// Also write the walk's side view (seed 002 Fig 6, Fig 8): the ground profile, the
+    /// Also write the walk's side view (the digital-actor paper's Fig 6 and Fig 8): the ground profile, the
     /// footholds and the legs through every swing, as a PNG.
     #[arg(long, value_name = "OUT.png")]
     pub png: Option<PathBuf>,

@@ -10,8 +10,9 @@ use crate::tui::{self, Config, MapSpec};
 /// `strider tui` options.
 #[derive(Debug, Args)]
 pub struct TuiArgs {
-    /// A `.rhai` map, a plain text world (`.txt`), a MovingAI `.map`, or `random:DENSITY`;
-    /// default: the built-in semi-cluttered scenario.
+    /// The world, in any form `strider run` takes (a map file, benchmark data `movingai:NAME`
+    /// or `barn:NAME`, `random:KIND`, a folder of worlds: its first); default: the built-in
+    /// semi-cluttered scenario.
     pub map: Option<String>,
     /// Navigation rules (a `.rhai` script building the layered network); default: built in.
     #[arg(long)]

@@ -174,7 +174,15 @@ mod tests {
     #[test]
     fn renders_and_encodes() {
         let world = World::new(Vec::new());
-        let scene = Scene { world: &world, agents: vec![], goals: vec![], view: None, caption: Some("x".into()) };
+        let scene = Scene {
+            world: &world,
+            agents: vec![],
+            goals: vec![],
+            view: None,
+            caption: Some("x".into()),
+            outcome: None,
+            legend: true,
+        };
         let pm = render_png(&scene, 64, 48);
         let bytes = encode(&pm).unwrap();
         assert_eq!(&bytes[1..4], b"PNG");

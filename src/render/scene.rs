@@ -1,6 +1,6 @@
 //! Top-down views of the world in the style of seed 000 Fig 2: obstacles with their convex
-//! hulls, goals, agents with trails, footprints and sensor sectors, a metric grid, a scale bar
-//! and a caption.
+//! hulls, goals, agents with their starts, trails, footprints and sensor sectors, a metric grid,
+//! a scale bar, a caption with the outcome, and a legend of what the picture shows.
 //!
 //! There is exactly one drawing routine, [`draw_scene`]. It speaks to a tiny [`Painter`]
 //! backend (lines, filled polygons, text, all in pixel coordinates), so the PNG frames
@@ -87,6 +87,12 @@ pub mod palette {
     pub const TERRAIN_HOLE: Rgba = Rgba::rgb(70, 90, 120);
     /// Footprints (reddish purple).
     pub const FOOTPRINT: Rgba = Rgba::rgb(204, 121, 167);
+    /// Outline of the start marker (a square, filled with the background).
+    pub const START: Rgba = Rgba::rgb(25, 25, 25);
+    /// An outcome that reached the goal cleanly (the goal's bluish green, darkened for text).
+    pub const SUCCESS: Rgba = Rgba::rgb(0, 120, 88);
+    /// An outcome that did not (vermillion).
+    pub const FAILURE: Rgba = Rgba::rgb(213, 94, 0);
     /// Labels, caption and scale bar.
     pub const TEXT: Rgba = Rgba::rgb(25, 25, 25);
 }
@@ -181,8 +187,22 @@ pub struct AgentView {
     pub sectors: Option<(Vec<f64>, Vec<f64>, f64)>,
     /// Footprints: centre (metres) and yaw (radians) of each foot placement.
     pub footprints: Vec<(DVec2, f64)>,
+    /// The body walks (the animated character): the legend lists footprints whether or not
+    /// any are drawn yet.
+    pub walks: bool,
+    /// Where the agent started, metres (drawn as a square).
+    pub start: Option<DVec2>,
     /// Text written next to the agent.
     pub label: Option<String>,
+}
+
+/// How the episode a scene shows ended, written after its caption.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Verdict {
+    /// What happened ("goal reached, path 18.27 m", "timed out, 4.37 m from the goal").
+    pub text: String,
+    /// The goal was reached cleanly (written in green, otherwise in vermillion).
+    pub success: bool,
 }
 
 /// Everything [`draw_scene`] draws. Plain data, built fresh for each frame.
@@ -199,6 +219,11 @@ pub struct Scene<'a> {
     pub view: Option<Aabb>,
     /// Text written centred at the top.
     pub caption: Option<String>,
+    /// How the episode ended, once it has: written after the caption.
+    pub outcome: Option<Verdict>,
+    /// A legend of what the picture shows, in a band along the bottom (the PNG frames; the
+    /// terminal view has its own panels).
+    pub legend: bool,
 }
 
 /// Length of a drawn footprint, metres.
@@ -209,6 +234,12 @@ pub const FOOT_WIDTH_M: f64 = 0.10;
 pub const AUTO_MARGIN_M: f64 = 0.5;
 
 impl Scene<'_> {
+    /// The same scene drawn over `world` (another copy of the same world, kept longer).
+    pub fn in_world(self, world: &World) -> Scene<'_> {
+        let Scene { world: _, agents, goals, view, caption, outcome, legend } = self;
+        Scene { world, agents, goals, view, caption, outcome, legend }
+    }
+
     /// The region [`draw_scene`] shows when [`Scene::view`] is `None`: the bounding box of the
     /// world, goals, agents with their sensor reach, trails and footprints, grown by
     /// [`AUTO_MARGIN_M`], metres. A scene with nothing in it shows 10 m × 10 m around the origin.
@@ -227,6 +258,9 @@ impl Scene<'_> {
                 free.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max).min(finite_len(*range))
             });
             add(Aabb::around(a.position, finite_len(a.radius) + reach));
+            if let Some(start) = a.start {
+                add(Aabb::around(start, finite_len(a.radius)));
+            }
             for &p in &a.trail {
                 add(Aabb::around(p, 0.0));
             }
@@ -327,14 +361,126 @@ pub fn world_to_pixel(transform: &ViewTransform, p: DVec2) -> DVec2 {
 }
 
 /// The transform [`draw_scene`] uses for `scene` on a painter of `size` pixels: the view (or
-/// [`Scene::auto_view`]) fitted below the caption line, with a margin for the scale bar.
+/// [`Scene::auto_view`]) fitted below the caption line (and with a legend, the outcome's line
+/// under it, kept whether or not the episode has ended, so all its frames are framed alike) and
+/// above the legend's band, with a margin for the scale bar.
 pub fn scene_transform(scene: &Scene, size: (f64, f64), text_height_px: f64) -> ViewTransform {
     let view = scene.view.unwrap_or_else(|| scene.auto_view());
     let (w, h) = (finite_len(size.0), finite_len(size.1));
     let th = finite_len(text_height_px);
     let pad = (th * 0.75).max(4.0).min(w.min(h) * 0.1);
-    let top = if scene.caption.is_some() { pad + th + pad } else { pad };
-    ViewTransform::fit(view, DVec2::new(pad, top.min(h * 0.3)), DVec2::new(w - pad, h - pad))
+    let legend = Legend::of(scene, (w, h), th);
+    let lines = if legend.is_some() {
+        2.0
+    } else if scene.caption.is_some() || scene.outcome.is_some() {
+        1.0
+    } else {
+        0.0
+    };
+    let top = pad + lines * (th + pad);
+    let band = legend.map_or(0.0, |l| l.height);
+    ViewTransform::fit(view, DVec2::new(pad, top.min(h * 0.3)), DVec2::new(w - pad, h - pad - band))
+}
+
+/// What a legend entry shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Key {
+    Agent,
+    Goal,
+    Start,
+    Trail,
+    Footprints,
+    Sensors,
+    Obstacle,
+    Hull,
+    Overhead,
+    Raised,
+    Hole,
+}
+
+impl Key {
+    fn label(self) -> &'static str {
+        match self {
+            Key::Agent => "agent, heading",
+            Key::Goal => "goal",
+            Key::Start => "start",
+            Key::Trail => "path walked",
+            Key::Footprints => "footsteps",
+            Key::Sensors => "sensor sectors",
+            Key::Obstacle => "obstacle",
+            Key::Hull => "convex hull",
+            Key::Overhead => "overhead (walked under)",
+            Key::Raised => "raised ground",
+            Key::Hole => "hole",
+        }
+    }
+}
+
+/// The legend of a scene laid out in rows along the bottom of the picture.
+#[derive(Debug, Clone, PartialEq)]
+struct Legend {
+    /// Each entry and the left edge of its swatch, pixels, by row.
+    rows: Vec<Vec<(Key, f64)>>,
+    /// Height of the band, pixels.
+    height: f64,
+    /// Height of a row, pixels.
+    row: f64,
+    /// Width of a swatch, pixels.
+    swatch: f64,
+}
+
+/// A legend shows only in pictures at least this wide and high, pixels.
+const LEGEND_MIN_SIDE_PX: f64 = 160.0;
+
+impl Legend {
+    /// The legend of `scene` on a picture of `size` whose text is `th` pixels high: the entries
+    /// its world and agents can show (what the world holds and what can move, whether or not it
+    /// has yet: so every frame of an episode has the same legend and the same framing), in rows
+    /// that fit the width. `None` when the scene asks for none or the picture is too small.
+    fn of(scene: &Scene, size: (f64, f64), th: f64) -> Option<Legend> {
+        use crate::world::terrain::FeatureKind;
+        let (w, h) = size;
+        if !scene.legend || w < LEGEND_MIN_SIDE_PX || h < LEGEND_MIN_SIDE_PX || th <= 0.0 {
+            return None;
+        }
+        let world = scene.world;
+        let agents = !scene.agents.is_empty();
+        let features = world.terrain.features();
+        let keys = [
+            (Key::Agent, agents),
+            (Key::Goal, !scene.goals.is_empty()),
+            (Key::Start, scene.agents.iter().any(|a| a.start.is_some())),
+            (Key::Trail, agents),
+            (Key::Footprints, scene.agents.iter().any(|a| a.walks || !a.footprints.is_empty())),
+            (Key::Sensors, scene.agents.iter().any(|a| a.sectors.is_some())),
+            (Key::Obstacle, !world.obstacles().is_empty()),
+            (Key::Hull, world.obstacles().iter().any(|o| o.parts.len() > 1)),
+            (Key::Overhead, !world.overhead.is_empty()),
+            (Key::Raised, features.iter().any(|f| f.kind != FeatureKind::Hole)),
+            (Key::Hole, features.iter().any(|f| f.kind == FeatureKind::Hole)),
+        ];
+        // The bitmap font advances 6 pixels of every 7 of its height per character.
+        let text_w = |t: &str| (6.0 * t.chars().count() as f64 - 1.0) * th / 7.0;
+        let pad = (th * 0.75).max(4.0);
+        let (swatch, gap, spacing) = (th * 2.4, th * 0.6, th * 1.6);
+        let mut rows: Vec<Vec<(Key, f64)>> = vec![Vec::new()];
+        let mut x = pad;
+        for (key, shown) in keys {
+            if !shown {
+                continue;
+            }
+            let width = swatch + gap + text_w(key.label());
+            if x > pad && x + width > w - pad {
+                rows.push(Vec::new());
+                x = pad;
+            }
+            rows.last_mut()?.push((key, x));
+            x += width + spacing;
+        }
+        let row = th * 1.8;
+        let height = rows.len() as f64 * row + pad;
+        (height <= h * 0.3).then_some(Legend { rows, height, row, swatch })
+    }
 }
 
 /// Draws `scene` onto `painter`, fitted to the painter's size.
@@ -344,14 +490,17 @@ pub fn scene_transform(scene: &Scene, size: (f64, f64), text_height_px: f64) -> 
 /// edges, holes in dark blue-grey), obstacle parts filled and outlined, the convex hull of non-convex obstacles (thin dashed),
 /// obstacles above the legs (overhead bars, shelves) filled translucent and outlined,
 /// goal discs with a cross, trails, footprints, sensor sector wedges (from the agent's disc to
-/// the sensed free distance, translucent), agent discs with heading lines, agent labels, a
-/// scale bar in the bottom-left corner and the caption centred at the top.
+/// the sensed free distance, translucent), start markers, agent discs with heading lines, agent
+/// labels, a scale bar in the bottom-left corner of the view, the caption and the outcome centred
+/// at the top, and the legend in a band along the bottom.
 pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
     let size = painter.size();
     let size = (finite_len(size.0), finite_len(size.1));
     let th = painter.text_size("M").y;
     let tf = scene_transform(scene, size, th);
-    let mut d = Drawer { p: painter, tf, size };
+    let legend = Legend::of(scene, size, th);
+    let bottom = size.1 - legend.as_ref().map_or(0.0, |l| l.height);
+    let mut d = Drawer { p: painter, tf, size, bottom };
     d.grid();
     for f in scene.world.terrain.features() {
         d.terrain(f);
@@ -368,6 +517,11 @@ pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
     let agents: Vec<&AgentView> = scene.agents.iter().filter(|a| a.position.is_finite()).collect();
     for a in &agents {
         d.trail(&a.trail);
+    }
+    for a in &agents {
+        if let Some(start) = a.start {
+            d.start(start, a.radius);
+        }
     }
     for a in &agents {
         for &(c, yaw) in &a.footprints {
@@ -388,8 +542,11 @@ pub fn draw_scene(scene: &Scene, painter: &mut dyn Painter) {
         }
     }
     d.scale_bar();
-    if let Some(c) = &scene.caption {
-        d.caption(c);
+    if scene.caption.is_some() || scene.outcome.is_some() {
+        d.caption(scene.caption.as_deref(), scene.outcome.as_ref(), legend.is_some());
+    }
+    if let Some(legend) = &legend {
+        d.legend(legend, th);
     }
 }
 
@@ -417,6 +574,8 @@ struct Drawer<'p> {
     p: &'p mut dyn Painter,
     tf: ViewTransform,
     size: (f64, f64),
+    /// The bottom of the view's area (the legend's band lies below), pixels.
+    bottom: f64,
 }
 
 impl Drawer<'_> {
@@ -666,7 +825,7 @@ impl Drawer<'_> {
     }
 
     fn scale_bar(&mut self) {
-        let (w, h) = self.size;
+        let (w, h) = (self.size.0, self.bottom);
         let s = self.tf.scale();
         let target = (w * 0.2).clamp(30.0, 200.0);
         let mut best = None;
@@ -703,12 +862,127 @@ impl Drawer<'_> {
         self.p.text(DVec2::new(x0 + ((bar - ts.x) / 2.0).max(0.0), y - tick - ts.y - 2.0), &label, palette::TEXT);
     }
 
-    fn caption(&mut self, caption: &str) {
-        let ts = self.p.text_size(caption);
+    /// The caption centred at the top and the outcome: on the line under it (`own_line`), or
+    /// after it on the same line.
+    fn caption(&mut self, caption: Option<&str>, outcome: Option<&Verdict>, own_line: bool) {
+        let caption = caption.unwrap_or_default();
+        let outcome_text = outcome.map_or("", |v| v.text.as_str());
+        let sep = if own_line || caption.is_empty() || outcome_text.is_empty() { "" } else { "   " };
+        let first = if own_line { caption.to_string() } else { format!("{caption}{sep}{outcome_text}") };
+        let ts = self.p.text_size(&first);
         let w = self.size.0;
         let pad = (ts.y * 0.75).max(4.0);
-        let x = if ts.x + 2.0 * pad <= w { (w - ts.x) / 2.0 } else { pad };
-        self.p.text(DVec2::new(x.round(), pad.round()), caption, palette::TEXT);
+        let centred = |width: f64| if width + 2.0 * pad <= w { ((w - width) / 2.0).round() } else { pad.round() };
+        let x = centred(ts.x);
+        if !caption.is_empty() {
+            self.p.text(DVec2::new(x, pad.round()), caption, palette::TEXT);
+        }
+        let Some(v) = outcome else { return };
+        let color = if v.success { palette::SUCCESS } else { palette::FAILURE };
+        let at = if own_line {
+            DVec2::new(centred(self.p.text_size(&v.text).x), (pad + ts.y + pad * 0.5).round())
+        } else {
+            let dx = if caption.is_empty() { 0.0 } else { self.p.text_size(&format!("{caption}{sep}")).x + 1.0 };
+            DVec2::new((x + dx).round(), pad.round())
+        };
+        self.p.text(at, &v.text, color);
+    }
+
+    /// Where an agent started: a square as wide as its disc (at least 7 pixels), outlined.
+    fn start(&mut self, at: DVec2, radius: f64) {
+        let c = self.px(at);
+        let half = self.tf.length_to_pixels(finite_len(radius)).max(3.5);
+        if c.is_finite() && half.is_finite() {
+            self.start_marker(c, half);
+        }
+    }
+
+    fn start_marker(&mut self, c: DVec2, half: f64) {
+        let corners = [
+            c + DVec2::new(-half, -half),
+            c + DVec2::new(half, -half),
+            c + DVec2::new(half, half),
+            c + DVec2::new(-half, half),
+        ];
+        self.p.fill_polygon(&corners, palette::BACKGROUND);
+        self.p.stroke_polygon(&corners, palette::START, OUTLINE_PX);
+    }
+
+    /// The legend's band: each entry's swatch, drawn as the picture draws it, and its label.
+    fn legend(&mut self, legend: &Legend, th: f64) {
+        let (w, h) = self.size;
+        let top = h - legend.height;
+        let band = [DVec2::new(0.0, top), DVec2::new(w, top), DVec2::new(w, h), DVec2::new(0.0, h)];
+        self.p.fill_polygon(&band, palette::BACKGROUND);
+        self.p.line(DVec2::new(0.0, top), DVec2::new(w, top), palette::GRID_AXIS, THIN_PX);
+        let pad = (th * 0.75).max(4.0);
+        for (r, row) in legend.rows.iter().enumerate() {
+            let y = top + pad * 0.5 + legend.row * (r as f64 + 0.5);
+            for &(key, x) in row {
+                self.swatch(key, DVec2::new(x, y - th / 2.0), DVec2::new(x + legend.swatch, y + th / 2.0));
+                let label = DVec2::new((x + legend.swatch + th * 0.6).round(), (y - th / 2.0).round());
+                self.p.text(label, key.label(), palette::TEXT);
+            }
+        }
+    }
+
+    /// A legend swatch filling the box `a`–`b` (pixels).
+    fn swatch(&mut self, key: Key, a: DVec2, b: DVec2) {
+        let c = (a + b) / 2.0;
+        let (wd, ht) = (b.x - a.x, b.y - a.y);
+        let rect = [a, DVec2::new(b.x, a.y), b, DVec2::new(a.x, b.y)];
+        let r = ht / 2.0;
+        match key {
+            Key::Agent => {
+                self.p.fill_circle(c, r, palette::AGENT);
+                self.p.circle(c, r, palette::AGENT_OUTLINE, OUTLINE_PX);
+                self.p.line(c, c + DVec2::new(wd / 2.0, 0.0), palette::HEADING, 2.0);
+            }
+            Key::Goal => {
+                self.p.fill_circle(c, r, palette::GOAL.with_alpha(48));
+                self.p.circle(c, r, palette::GOAL, OUTLINE_PX);
+                let arm = r * 0.7;
+                self.p.line(c - DVec2::new(arm, arm), c + DVec2::new(arm, arm), palette::GOAL, 2.0);
+                self.p.line(c - DVec2::new(arm, -arm), c + DVec2::new(arm, -arm), palette::GOAL, 2.0);
+            }
+            Key::Start => self.start_marker(c, r * 0.8),
+            Key::Trail => self.p.line(DVec2::new(a.x, c.y), DVec2::new(b.x, c.y), palette::TRAIL, TRAIL_PX),
+            Key::Footprints => {
+                let (fw, fh) = (wd * 0.3, ht * 0.35);
+                for f in [DVec2::new(a.x + wd * 0.25, c.y - ht * 0.25), DVec2::new(a.x + wd * 0.7, c.y + ht * 0.25)] {
+                    let foot = [
+                        f + DVec2::new(-fw, -fh) / 2.0,
+                        f + DVec2::new(fw, -fh) / 2.0,
+                        f + DVec2::new(fw, fh) / 2.0,
+                        f + DVec2::new(-fw, fh) / 2.0,
+                    ];
+                    self.p.fill_polygon(&foot, palette::FOOTPRINT.with_alpha(110));
+                    self.p.stroke_polygon(&foot, palette::FOOTPRINT, THIN_PX);
+                }
+            }
+            Key::Sensors => {
+                let wedge = [DVec2::new(a.x, c.y), DVec2::new(b.x, a.y), b];
+                self.p.fill_polygon(&wedge, palette::SENSOR.with_alpha(palette::SENSOR_ALPHA));
+                self.p.stroke_polygon(&wedge, palette::SENSOR, THIN_PX);
+            }
+            Key::Obstacle => {
+                self.p.fill_polygon(&rect, palette::OBSTACLE_FILL);
+                self.p.stroke_polygon(&rect, palette::OBSTACLE_OUTLINE, OUTLINE_PX);
+            }
+            Key::Hull => self.dashed(DVec2::new(a.x, c.y), DVec2::new(b.x, c.y), palette::HULL, OUTLINE_PX, 6.0, 4.0),
+            Key::Overhead => {
+                self.p.fill_polygon(&rect, palette::OVERHEAD_FILL);
+                self.p.stroke_polygon(&rect, palette::OBSTACLE_OUTLINE, OUTLINE_PX);
+            }
+            Key::Raised => {
+                self.p.fill_polygon(&rect, palette::TERRAIN_RAISED);
+                self.p.stroke_polygon(&rect, palette::TERRAIN_EDGE, THIN_PX);
+            }
+            Key::Hole => {
+                self.p.fill_polygon(&rect, palette::TERRAIN_HOLE);
+                self.p.stroke_polygon(&rect, palette::TERRAIN_EDGE, THIN_PX);
+            }
+        }
     }
 }
 
@@ -785,6 +1059,58 @@ mod tests {
         }
     }
 
+    /// The legend lists what the picture can show (the hull only for a non-convex obstacle,
+    /// footsteps for a walking body before it has stepped), and a frame looks the same with
+    /// its outcome as without: the framing is kept for it.
+    #[test]
+    fn the_legend_names_what_is_drawn_and_the_framing_holds() {
+        #[derive(Default)]
+        struct Texts(Vec<String>);
+        impl Painter for Texts {
+            fn size(&self) -> (f64, f64) {
+                (400.0, 400.0)
+            }
+            fn line(&mut self, _: DVec2, _: DVec2, _: Rgba, _: f64) {}
+            fn fill_polygon(&mut self, _: &[DVec2], _: Rgba) {}
+            fn text(&mut self, _: DVec2, text: &str, _: Rgba) {
+                self.0.push(text.to_string());
+            }
+        }
+        let square = obstacle(ObstacleShape::Box { center: DVec2::new(2.0, 0.0), width: 1.0, height: 1.0, yaw: 0.0 });
+        let world = World::new(vec![square]);
+        let agent = AgentView {
+            position: DVec2::ZERO,
+            radius: 0.3,
+            walks: true,
+            start: Some(DVec2::ZERO),
+            ..AgentView::default()
+        };
+        let mut scene = Scene {
+            world: &world,
+            agents: vec![agent],
+            goals: vec![(DVec2::new(5.0, 0.0), 0.5)],
+            view: None,
+            caption: Some("demo".into()),
+            outcome: None,
+            legend: true,
+        };
+        let mut texts = Texts::default();
+        draw_scene(&scene, &mut texts);
+        for label in ["agent, heading", "goal", "start", "path walked", "footsteps", "obstacle"] {
+            assert!(texts.0.iter().any(|t| t == label), "{label} missing from {:?}", texts.0);
+        }
+        assert!(!texts.0.iter().any(|t| t == "convex hull" || t == "hole"), "{:?}", texts.0);
+        let running = scene_transform(&scene, (400.0, 400.0), 7.0);
+        scene.outcome = Some(Verdict { text: "goal reached, path 5.00 m".into(), success: true });
+        assert_eq!(scene_transform(&scene, (400.0, 400.0), 7.0), running);
+        let mut texts = Texts::default();
+        draw_scene(&scene, &mut texts);
+        assert!(texts.0.iter().any(|t| t == "goal reached, path 5.00 m"));
+        // Without a legend (the terminal view) the band is not kept.
+        scene.legend = false;
+        assert_ne!(scene_transform(&scene, (400.0, 400.0), 7.0), running);
+    }
+
     fn obstacle(shape: ObstacleShape) -> Obstacle {
         Obstacle::build(shape, 0.0, 2.0).unwrap()
     }
@@ -813,6 +1139,8 @@ mod tests {
             trail: vec![nan, DVec2::ONE, nan],
             sectors: Some((vec![0.0, f64::NAN, 1.0], vec![f64::NAN], f64::NAN)),
             footprints: vec![(nan, 0.0)],
+            walks: true,
+            start: Some(nan),
             label: Some("nan".into()),
         };
         let odd = AgentView {
@@ -822,6 +1150,8 @@ mod tests {
             trail: vec![DVec2::ZERO, nan, DVec2::new(f64::INFINITY, 0.0), DVec2::ONE, DVec2::new(2.0, 1.0)],
             sectors: Some((vec![-1.0, 0.0, 1.0, 7.0], vec![1.0, -5.0, f64::INFINITY, 2.0], 3.0)),
             footprints: vec![(DVec2::ONE, f64::NAN)],
+            walks: false,
+            start: Some(DVec2::new(f64::INFINITY, 0.0)),
             label: Some(String::new()),
         };
         let views = [
@@ -840,6 +1170,8 @@ mod tests {
                         goals: vec![(nan, 1.0), (DVec2::ONE, f64::NAN)],
                         view,
                         caption: Some("caption".into()),
+                        outcome: Some(Verdict { text: "timed out".into(), success: false }),
+                        legend: true,
                     };
                     let mut rec = Recorder::default();
                     draw_scene(&scene, &mut rec);
@@ -852,7 +1184,15 @@ mod tests {
             }
         }
         // A NaN agent draws nothing at all of its own.
-        let scene = Scene { world: &empty, agents: vec![weird], goals: vec![], view: None, caption: None };
+        let scene = Scene {
+            world: &empty,
+            agents: vec![weird],
+            goals: vec![],
+            view: None,
+            caption: None,
+            outcome: None,
+            legend: false,
+        };
         let mut rec = Recorder::default();
         draw_scene(&scene, &mut rec);
         assert!(rec.fills <= 1, "only the scale bar backdrop may be filled, got {}", rec.fills);

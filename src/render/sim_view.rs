@@ -4,16 +4,17 @@
 use glam::{DVec2, DVec3};
 
 use super::poses::{StripPose, strip_pose};
-use super::scene::{AgentView, Scene};
+use super::scene::{AgentView, Scene, Verdict};
 use super::side_view::{SideLegs, SideView};
 use crate::footstep::{Foot, Foothold, GroundPiece, LegPose, Sole, StepPose};
 use crate::sim::footing::{Footing, PlayedStep};
-use crate::sim::{AnimatedBody, Body, Simulation};
+use crate::sim::{AnimatedBody, Body, Outcome, Simulation};
 
 /// How far ahead of the foot joint (ankle) a drawn footprint's centre lies, metres.
 const FOOT_CENTRE_AHEAD_M: f64 = 0.07;
 
-/// The scene of `sim` now: obstacles, goals, and every agent with trail and sensor sectors.
+/// The scene of `sim` now: obstacles, goals, and every agent with its start, trail and sensor
+/// sectors; once every agent is done, how the episode ended; a legend.
 pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
     let layout = &sim.params.layout;
     let agents = sim
@@ -39,12 +40,44 @@ pub fn scene_of<'a>(sim: &'a Simulation, caption: Option<String>) -> Scene<'a> {
                         .map(|f| (DVec2::new(f.x, f.y) + DVec2::from_angle(f.yaw) * FOOT_CENTRE_AHEAD_M, f.yaw))
                         .collect(),
                 }),
+                walks: a.body.animated().is_some(),
+                start: Some(a.task.start.position),
                 label: None,
             }
         })
         .collect();
     let goals = sim.agents.iter().map(|a| (a.task.goal, a.task.goal_radius)).collect();
-    Scene { world: &sim.world, agents, goals, view: None, caption }
+    Scene { world: &sim.world, agents, goals, view: None, caption, outcome: verdict(sim), legend: true }
+}
+
+/// How the episode of `sim` ended, once every agent is done: for one agent what happened to
+/// it (the goal reached and the path's length, or how it failed), for several how many reached
+/// their goals.
+pub fn verdict(sim: &Simulation) -> Option<Verdict> {
+    if sim.agents.is_empty() || !sim.all_done() {
+        return None;
+    }
+    let clean = |a: &crate::sim::Agent| a.outcome == Some(Outcome::Reached) && a.metrics.collisions == 0;
+    if let [a] = sim.agents.as_slice() {
+        let m = &a.metrics;
+        let mut text = match a.outcome? {
+            Outcome::Reached => format!("goal reached, path {:.2} m", m.path_length_m),
+            Outcome::TimedOut => {
+                let short = (a.body.pose().position.distance(a.task.goal) - a.task.goal_radius).max(0.0);
+                format!("timed out {short:.2} m from the goal")
+            }
+            Outcome::Refused => "refused: no way round for the body".to_string(),
+        };
+        if m.collisions > 0 {
+            text += &format!(", {} collision(s)", m.collisions);
+        }
+        return Some(Verdict { text, success: clean(a) });
+    }
+    let reached = sim.agents.iter().filter(|a| clean(a)).count();
+    Some(Verdict {
+        text: format!("{reached} of {} agents reached their goals cleanly", sim.agents.len()),
+        success: reached == sim.agents.len(),
+    })
 }
 
 /// The animated character's current pose for the side-view strip, in its ground frame, with
@@ -253,5 +286,113 @@ mod tests {
             xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - xs.iter().cloned().fold(f64::INFINITY, f64::min)
         };
         assert!(across(&front) > 0.3 && across(&side) < across(&front), "{} {}", across(&side), across(&front));
+    }
+}
+
+/// Most moments in an upper-body strip.
+const UPPER_POSES: usize = 12;
+
+/// Offsets (radians) from which a moment counts as the upper body moving for obstacles in the
+/// upper-body strips.
+const UPPER_MOVED_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// Leg poses per step in the side view.
+const SIDE_POSES_PER_STEP: usize = 4;
+
+/// Seconds between the moments an upper-body strip may show.
+const UPPER_EVERY_S: f64 = 0.25;
+
+/// The side views of the first agent's episode (the digital-actor paper's Fig 6, Fig 8 and
+/// Fig 9), gathered as the simulation runs: on a map with terrain, every step the character
+/// took ([`SideRecorder`]); among obstacles its upper body can touch, the moments it bent,
+/// twisted or moved its arms for them, seen from its left and from ahead. `strider render
+/// --side/--front` writes them, `strider snapshot --side` pins them.
+#[derive(Debug, Clone)]
+pub struct SideViews {
+    legs: Option<SideRecorder>,
+    upper: Option<Vec<(StripPose, StripPose)>>,
+    per_pose: usize,
+}
+
+/// A picture of the side views: its file name and pixels.
+pub type SidePicture = (&'static str, tiny_skia::Pixmap);
+
+impl SideViews {
+    /// The side views `sim` (about to run) has to show: the legs on a map with terrain, the
+    /// upper body on one with obstacles it can touch.
+    pub fn new(sim: &Simulation) -> SideViews {
+        SideViews {
+            legs: (!sim.world.terrain.is_flat()).then(SideRecorder::default),
+            upper: sim.world.upper_body_matters().then(Vec::new),
+            per_pose: (UPPER_EVERY_S / sim.params.dt_s).round().max(1.0) as usize,
+        }
+    }
+
+    /// Whether the map has anything to show from the side.
+    pub fn any(&self) -> bool {
+        self.legs.is_some() || self.upper.is_some()
+    }
+
+    /// Looks at `sim` before its step `step`: the upper body, every [`UPPER_EVERY_S`].
+    pub fn before_step(&mut self, sim: &Simulation, step: usize) {
+        let (Some(upper), Some(b)) = (&mut self.upper, sim.agents.first().and_then(|a| a.body.animated())) else {
+            return;
+        };
+        if !step.is_multiple_of(self.per_pose) {
+            return;
+        }
+        let c = b.upper_offsets();
+        if c.waist.iter().chain(c.arms.iter().flatten()).any(|x| x.abs() > UPPER_MOVED_RAD) {
+            // Time, waist bend and twist in degrees.
+            let caption =
+                format!("{:.2} s b{:.0} t{:+.0}", sim.time_s, c.waist[0].to_degrees(), c.waist[1].to_degrees());
+            let solids: Vec<_> = sim.world.solids().collect();
+            let pose = |view| upper_strip_pose(b, solids.iter().copied(), view, caption.clone());
+            upper.push((pose(StripView::Side), pose(StripView::Front)));
+        }
+    }
+
+    /// Looks at `sim` after a step: the step the legs play, if it is a new one.
+    pub fn after_step(&mut self, sim: &Simulation) {
+        if let (Some(legs), Some(f)) =
+            (&mut self.legs, sim.agents.first().and_then(|a| a.body.animated()).and_then(|b| b.footing()))
+        {
+            legs.observe(f);
+        }
+    }
+
+    /// The upper body kept the database's motion all the way (there is a strip to draw only
+    /// when it did not).
+    pub fn upper_unmoved(&self) -> bool {
+        self.upper.as_ref().is_some_and(Vec::is_empty)
+    }
+
+    /// The pictures of the episode `name` of `sim` (run to its end): `side.png` (the legs'
+    /// side view) and `upper_side.png` (the upper body from its left) when `side` is asked,
+    /// `upper_front.png` (from ahead) when `front` is, each where the map has it to show.
+    pub fn pictures(&self, sim: &Simulation, name: &str, side: bool, front: bool) -> Vec<SidePicture> {
+        let mut out = Vec::new();
+        if let (true, Some(legs)) = (side, &self.legs) {
+            let foot = sim.agents.first().and_then(|a| a.body.animated()).and_then(|b| b.footing());
+            let mut view = legs.view(foot.map_or(0.0, |f| f.params().leg.foot_length_m()), SIDE_POSES_PER_STEP);
+            view.caption = Some(format!("{name}: {} steps, side view", legs.len()));
+            out.push(("side.png", super::side_view::render_side_view(&view).0));
+        }
+        let Some(upper) = self.upper.as_ref().filter(|u| !u.is_empty()) else { return out };
+        // At most a dozen moments, evenly spread over those recorded.
+        let n = upper.len();
+        let picked: Vec<&(StripPose, StripPose)> =
+            (0..n.min(UPPER_POSES)).map(|k| &upper[k * n / n.min(UPPER_POSES)]).collect();
+        for (wanted, file, from_left) in [(side, "upper_side.png", true), (front, "upper_front.png", false)] {
+            if !wanted {
+                continue;
+            }
+            let poses: Vec<StripPose> =
+                picked.iter().map(|p| if from_left { p.0.clone() } else { p.1.clone() }).collect();
+            let mut painter = super::png::PngPainter::new(160 * poses.len() as u32, 360);
+            super::poses::draw_strip(&poses, &mut painter);
+            out.push((file, painter.into_pixmap()));
+        }
+        out
     }
 }

@@ -279,6 +279,8 @@ impl App {
     pub fn scene(&self) -> Scene<'_> {
         let mut scene = scene_of(&self.sim, Some(self.map_name()));
         scene.view = Some(self.view.region(self.selected_position()));
+        // The panels explain the picture.
+        scene.legend = false;
         if scene.agents.len() > 1
             && let Some(a) = scene.agents.get_mut(self.selected)
         {
